@@ -1,0 +1,46 @@
+#pragma once
+/// \file
+/// Typed exceptions for mistakes in what users give the CAS (the second tier of errors:
+/// our own invariants are assertions).
+#include <stdexcept>
+#include <string>
+
+namespace phynjo::cas {
+
+/// Base of every error the CAS reports about its input.
+class Error : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+/// A mathematically undefined operation: division by zero, `log(0)`, `tan(pi/2)`, …
+class DomainError : public Error {
+public:
+    using Error::Error;
+};
+
+/// A documented resource limit was hit (number size, expansion size, derivative order…).
+class LimitError : public Error {
+public:
+    using Error::Error;
+};
+
+/// Numeric evaluation failed: a symbol without a value, or a non-finite result.
+class EvaluationError : public Error {
+public:
+    using Error::Error;
+};
+
+/// The documented resource limits. They turn hostile input into an error rather than an
+/// exhausted memory.
+namespace limits {
+/// Largest exact number made by `pow` or read from a literal, in bits of numerator or
+/// denominator (about 30,000 decimal digits).
+inline constexpr std::size_t max_number_bits = 100'000;
+/// Most terms `expand` may produce for one expression.
+inline constexpr std::size_t max_expand_terms = 1'000'000;
+/// Highest time-derivative order of a symbol (`x''…'`).
+inline constexpr int max_derivative_order = 16;
+} // namespace limits
+
+} // namespace phynjo::cas

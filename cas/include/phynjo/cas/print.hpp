@@ -1,0 +1,33 @@
+#pragma once
+/// \file
+/// Printers: the input syntax (re-parses to the same expression), C++, LaTeX.
+#include "phynjo/cas/expr.hpp"
+
+#include <functional>
+#include <string>
+
+namespace phynjo::cas {
+
+/// Infix in the input syntax of `lag-format.md`: parsing the result gives back `e` exactly.
+/// Terms and factors appear in a readable order (by kind, then alphabetically).
+std::string to_string(Expr e);
+
+/// Options of the C++ printer.
+struct CppOptions {
+    /// Spelling of a variable (Symbol or TimeDerivative). Default: the name, `x_dot`,
+    /// `x_ddot`, `x_d3`, …
+    std::function<std::string(Expr)> variable_name;
+    /// Largest |n| printed as repeated multiplication for `x^n` (integer n); above it, std::pow.
+    int max_multiply_power = 8;
+};
+
+/// A C++ expression of type double: `std::sin`, integer powers as multiplications,
+/// rationals as correctly rounded double literals.
+std::string to_cpp(Expr e, const CppOptions& options = {});
+/// The default C++ spelling of a variable (see CppOptions::variable_name).
+std::string default_cpp_name(Expr variable);
+
+/// LaTeX (math mode, without delimiters): \frac, \sin, \dot{x}, greek names as letters.
+std::string to_latex(Expr e);
+
+} // namespace phynjo::cas

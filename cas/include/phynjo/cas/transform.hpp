@@ -1,0 +1,36 @@
+#pragma once
+/// \file
+/// Rewriting passes: expand, simplify, substitution, free symbols.
+#include "phynjo/cas/expr.hpp"
+
+#include <span>
+#include <unordered_map>
+#include <vector>
+
+namespace phynjo::cas {
+
+/// The node `e` with its children replaced by `args` (same count), re-canonicalized.
+Expr rebuild(Expr e, std::span<const Expr> args);
+
+/// Distributes products over sums and raises sums to positive integer powers, recursively,
+/// so that the result is a sum of products. Throws LimitError beyond
+/// `limits::max_expand_terms` terms.
+Expr expand(Expr e);
+
+/// Canonical form plus `sin(u)^2 + cos(u)^2 → 1` inside sums (on the expression as given and
+/// on its expansion; the smaller result wins), repeated to a fixed point, so that
+/// `simplify(simplify(e)) == simplify(e)`.
+Expr simplify(Expr e);
+
+/// Replaces every occurrence of each key (any subexpression, matched structurally) by its
+/// value, bottom-up, re-canonicalizing.
+Expr subs(Expr e, const std::unordered_map<Expr, Expr>& replacements);
+
+/// The symbols in `e` (a TimeDerivative `x'` contributes `x`), sorted by name.
+std::vector<Expr> free_symbols(Expr e);
+/// The variables in `e`: symbols and time derivatives, sorted by name then order.
+std::vector<Expr> free_variables(Expr e);
+/// True if `e` contains `x` (structurally).
+bool contains(Expr e, Expr x);
+
+} // namespace phynjo::cas

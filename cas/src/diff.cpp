@@ -1,0 +1,156 @@
+// Differentiation by a variable and by time: one derivation core, two leaf rules.
+#include "phynjo/cas/diff.hpp"
+
+#include "number_ops.hpp"
+
+#include <string>
+
+namespace phynjo::cas {
+
+namespace {
+
+/// The derivative of a compound node, given `rec` for the derivative of its children:
+/// sum rule, flattened product rule, power rule, chain rule.
+template <typename Rec>
+Expr derive_compound(Expr e, Rec&& rec) {
+    switch (e.kind()) {
+    case Kind::Add: {
+        std::vector<Expr> terms;
+        terms.reserve(e->nargs);
+        for (std::uint32_t i = 0; i < e->nargs; ++i) {
+            Expr d = rec(e.args()[i]);
+            if (!d.is_zero()) terms.push_back(mul({e->coefs[i], d}));
+        }
+        return terms.empty() ? Expr(0) : add(terms);
+    }
+    case Kind::Mul: {
+        // d(c·u1·…·un) = Σ_i c·u1…u_{i-1}·u_i'·u_{i+1}…un
+        const auto fs = e.args();
+        std::vector<Expr> terms, factors;
+        terms.reserve(fs.size());
+        factors.reserve(fs.size() + 1);
+        for (std::size_t i = 0; i < fs.size(); ++i) {
+            Expr d = rec(fs[i]);
+            if (d.is_zero()) continue;
+            factors.clear();
+            factors.push_back(e->number);
+            for (std::size_t j = 0; j < fs.size(); ++j)
+                if (j != i) factors.push_back(fs[j]);
+            factors.push_back(d);
+            terms.push_back(mul(factors));
+        }
+        return terms.empty() ? Expr(0) : add(terms);
+    }
+    case Kind::Pow: {
+        const Expr b = e.args()[0], x = e.args()[1];
+        const Expr db = rec(b), dx = rec(x);
+        if (dx.is_zero()) {
+            if (db.is_zero()) return Expr(0);
+            return mul({x, pow(b, add({x, Expr(-1)})), db}); // x·b^(x−1)·b'
+        }
+        // d(b^x) = b^x·(x'·log b + x·b'/b)
+        return mul({e, add({mul({dx, log(b)}), mul({x, db, pow(b, Expr(-1))})})});
+    }
+    case Kind::Function: {
+        const Expr u = e.args()[0];
+        const Expr du = rec(u);
+        if (du.is_zero()) return du;
+        switch (static_cast<Function>(e->sub)) {
+        case Function::Sin: return mul({cos(u), du});
+        case Function::Cos: return mul({Expr(-1), sin(u), du});
+        case Function::Tan: return mul({add({Expr(1), pow(e, Expr(2))}), du}); // 1 + tan²
+        case Function::Exp: return mul({e, du});
+        case Function::Log: return mul({du, pow(u, Expr(-1))});
+        }
+        return Expr(0);
+    }
+    case Kind::Number:
+    case Kind::Constant:
+    case Kind::Symbol:
+    case Kind::TimeDerivative: break; // leaves: handled by the callers
+    }
+    return Expr(0);
+}
+
+Expr make_derivative_node(Expr sym, int order) {
+    if (order > limits::max_derivative_order)
+        throw LimitError("time derivative of order above " + std::to_string(limits::max_derivative_order));
+    const Expr args[1] = {sym};
+    detail::NodeKey k{Kind::TimeDerivative};
+    k.sub = static_cast<std::uint8_t>(order);
+    k.args = args;
+    return Expr(detail::pool().intern(k));
+}
+
+} // namespace
+
+Expr diff(Expr e, Expr var) {
+    if (!var.is_atom_variable())
+        throw Error("can only differentiate with respect to a symbol or a time derivative of one");
+    auto& memo = detail::pool().diff_memo;
+    const std::uint64_t mask = var->atom_mask;
+    auto rec = [&](auto&& self, Expr x) -> Expr {
+        if ((x->atom_mask & mask) == 0) return Expr(0);
+        switch (x.kind()) {
+        case Kind::Number:
+        case Kind::Constant: return Expr(0);
+        case Kind::Symbol:
+        case Kind::TimeDerivative: return x == var ? Expr(1) : Expr(0);
+        case Kind::Function:
+        case Kind::Pow:
+        case Kind::Mul:
+        case Kind::Add: break;
+        }
+        const auto key = std::make_pair(x.get(), var.get());
+        if (auto it = memo.find(key); it != memo.end()) return it->second;
+        Expr d = derive_compound(x, [&](Expr c) { return self(self, c); });
+        memo.emplace(key, d);
+        return d;
+    };
+    return rec(rec, e);
+}
+
+Expr velocity(Expr x) {
+    if (x.kind() == Kind::Symbol) return make_derivative_node(x, 1);
+    if (x.kind() == Kind::TimeDerivative) return make_derivative_node(x.args()[0], x->sub + 1);
+    throw Error("velocity() needs a symbol");
+}
+
+Expr time_derivative(Expr e) {
+    auto& memo = detail::pool().dt_memo;
+    auto rec = [&](auto&& self, Expr x) -> Expr {
+        switch (x.kind()) {
+        case Kind::Number:
+        case Kind::Constant: return Expr(0);
+        case Kind::Symbol: return x == time_symbol() ? Expr(1) : make_derivative_node(x, 1);
+        case Kind::TimeDerivative: return make_derivative_node(x.args()[0], x->sub + 1);
+        case Kind::Function:
+        case Kind::Pow:
+        case Kind::Mul:
+        case Kind::Add: break;
+        }
+        if (auto it = memo.find(x.get()); it != memo.end()) return it->second;
+        Expr d = derive_compound(x, [&](Expr c) { return self(self, c); });
+        memo.emplace(x.get(), d);
+        return d;
+    };
+    return rec(rec, e);
+}
+
+Expr total_time_derivative(Expr e, std::span<const Expr> coordinates) {
+    std::vector<Expr> terms;
+    for (Expr q : coordinates) {
+        // e may contain q, q' and q'' (an acceleration, once differentiated already).
+        Expr x = q;
+        for (int order = 0; order < 3; ++order, x = velocity(x)) {
+            if ((e->atom_mask & x->atom_mask) == 0) continue;
+            Expr d = diff(e, x);
+            if (!d.is_zero()) terms.push_back(mul({d, velocity(x)}));
+        }
+    }
+    Expr dt = diff(e, time_symbol());
+    if (!dt.is_zero()) terms.push_back(dt);
+    return terms.empty() ? Expr(0) : add(terms);
+}
+
+} // namespace phynjo::cas

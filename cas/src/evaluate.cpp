@@ -1,0 +1,85 @@
+#include "phynjo/cas/evaluate.hpp"
+
+#include "phynjo/cas/errors.hpp"
+#include "phynjo/cas/print.hpp"
+#include "phynjo/cas/rational.hpp"
+
+#include <cmath>
+
+namespace phynjo::cas {
+
+namespace {
+
+template <typename T>
+T number_value(Expr x) {
+    if constexpr (std::is_same_v<T, double>) return to_double(x.value());
+    else return to_long_double(x.value());
+}
+
+template <typename T>
+T evaluate_impl(Expr e, const Bindings<T>& values) {
+    std::unordered_map<const Node*, T> memo;
+    auto rec = [&](auto&& self, Expr x) -> T {
+        if (auto it = memo.find(x.get()); it != memo.end()) return it->second;
+        T r{};
+        switch (x.kind()) {
+        case Kind::Number: r = number_value<T>(x); break;
+        case Kind::Constant: r = T(3.141592653589793238462643383279502884L); break;
+        case Kind::Symbol:
+        case Kind::TimeDerivative: {
+            auto it = values.find(x);
+            if (it == values.end()) throw EvaluationError("no value for '" + to_string(x) + "'");
+            r = it->second;
+            break;
+        }
+        case Kind::Function: {
+            const T u = self(self, x.args()[0]);
+            switch (static_cast<Function>(x->sub)) {
+            case Function::Sin: r = std::sin(u); break;
+            case Function::Cos: r = std::cos(u); break;
+            case Function::Tan: r = std::tan(u); break;
+            case Function::Exp: r = std::exp(u); break;
+            case Function::Log: r = std::log(u); break;
+            }
+            break;
+        }
+        case Kind::Pow: {
+            const T b = self(self, x.args()[0]);
+            const Expr ex = x.args()[1];
+            if (ex.is_integer() && abs(ex.value().get_num()) <= 64) {
+                // exact repeated multiplication for small integer powers
+                long n = ex.value().get_num().get_si();
+                T acc = 1, base = n < 0 ? T(1) / b : b;
+                for (long k = n < 0 ? -n : n; k; k >>= 1) {
+                    if (k & 1) acc *= base;
+                    base *= base;
+                }
+                r = acc;
+            } else r = std::pow(b, self(self, ex));
+            break;
+        }
+        case Kind::Mul: {
+            r = number_value<T>(x->number);
+            for (Expr f : x.args()) r *= self(self, f);
+            break;
+        }
+        case Kind::Add: {
+            r = number_value<T>(x->number);
+            for (std::uint32_t i = 0; i < x->nargs; ++i) r += number_value<T>(x->coefs[i]) * self(self, x.args()[i]);
+            break;
+        }
+        }
+        if (!std::isfinite(r))
+            throw EvaluationError("'" + to_string(x) + "' is not finite (" + (std::isnan(r) ? "NaN" : "infinite") + ")");
+        memo.emplace(x.get(), r);
+        return r;
+    };
+    return rec(rec, e);
+}
+
+} // namespace
+
+double evaluate(Expr e, const Bindings<double>& values) { return evaluate_impl<double>(e, values); }
+long double evaluate_extended(Expr e, const Bindings<long double>& values) { return evaluate_impl<long double>(e, values); }
+
+} // namespace phynjo::cas

@@ -1,0 +1,487 @@
+// The canonicalizing factories: every node is made here, in canonical form (see expr.hpp).
+#include "number_ops.hpp"
+
+#include <algorithm>
+#include <cstring>
+#include <unordered_set>
+
+namespace phynjo::cas {
+
+using detail::make_int;
+using detail::make_number;
+using detail::NodeKey;
+using detail::num_add;
+using detail::num_mul;
+using detail::pool;
+
+std::string_view function_name(Function f) {
+    switch (f) {
+    case Function::Sin: return "sin";
+    case Function::Cos: return "cos";
+    case Function::Tan: return "tan";
+    case Function::Exp: return "exp";
+    case Function::Log: return "log";
+    }
+    return "?";
+}
+
+Expr::Expr(int v) : Expr(make_int(v)) {}
+Expr::Expr(long v) : Expr(make_int(v)) {}
+Expr::Expr(long long v) : Expr(make_int(v)) {}
+Expr::Expr(const mpq_class& v) : Expr(make_number(v)) {}
+
+bool Expr::is_integer() const noexcept { return kind() == Kind::Number && detail::num_is_integer(*this); }
+
+Expr integer(long long v) { return make_int(v); }
+Expr integer(const mpz_class& v) { return make_number(mpq_class(v)); }
+Expr rational(long long p, long long q) {
+    if (q == 0) throw DomainError("division by zero");
+    mpq_class r{mpz_class(std::to_string(p)), mpz_class(std::to_string(q))};
+    r.canonicalize();
+    return make_number(r);
+}
+Expr number(const mpq_class& v) {
+    mpq_class r = v;
+    r.canonicalize();
+    return make_number(r);
+}
+
+Expr pi() {
+    auto& p = pool();
+    if (p.pi.is_null()) {
+        NodeKey k{Kind::Constant};
+        k.sub = static_cast<std::uint8_t>(Constant::Pi);
+        p.pi = Expr(p.intern(k));
+    }
+    return p.pi;
+}
+
+Expr symbol(std::string_view name) {
+    if (name.empty()) throw Error("a symbol needs a name");
+    NodeKey k{Kind::Symbol};
+    k.name = name;
+    return Expr(pool().intern(k));
+}
+
+Expr time_symbol() {
+    auto& p = pool();
+    if (p.time.is_null()) p.time = symbol("t");
+    return p.time;
+}
+
+// ---- order ------------------------------------------------------------------------------
+
+int compare(Expr a, Expr b) noexcept {
+    if (a == b) return 0;
+    if (a.hash() != b.hash()) return a.hash() < b.hash() ? -1 : 1;
+    // Equal hashes of different structures: compare structurally (rare).
+    if (a.kind() != b.kind()) return a.kind() < b.kind() ? -1 : 1;
+    if (a->sub != b->sub) return a->sub < b->sub ? -1 : 1;
+    switch (a.kind()) {
+    case Kind::Number: return detail::num_cmp(a, b);
+    case Kind::Symbol: return a->name.compare(b->name) < 0 ? -1 : 1;
+    case Kind::Constant: return 0;
+    case Kind::TimeDerivative:
+    case Kind::Function:
+    case Kind::Pow:
+    case Kind::Mul:
+    case Kind::Add: {
+        if (a->nargs != b->nargs) return a->nargs < b->nargs ? -1 : 1;
+        if (a->number != b->number) return compare(a->number, b->number);
+        for (std::uint32_t i = 0; i < a->nargs; ++i)
+            if (int c = compare(a.args()[i], b.args()[i])) return c;
+        if (a.kind() == Kind::Add)
+            for (std::uint32_t i = 0; i < a->nargs; ++i)
+                if (int c = compare(a->coefs[i], b->coefs[i])) return c;
+        return 0;
+    }
+    }
+    return 0;
+}
+
+namespace {
+
+bool less(Expr a, Expr b) noexcept { return compare(a, b) < 0; }
+
+Expr make_mul_node(Expr coef, std::span<const Expr> factors) {
+    NodeKey k{Kind::Mul};
+    k.number = coef;
+    k.args = factors;
+    return Expr(pool().intern(k));
+}
+
+Expr make_add_node(Expr constant, std::span<const Expr> rests, std::span<const Expr> coefs) {
+    NodeKey k{Kind::Add};
+    k.number = constant;
+    k.args = rests;
+    k.coefs = coefs;
+    return Expr(pool().intern(k));
+}
+
+Expr make_pow_node(Expr b, Expr e) {
+    const Expr args[2] = {b, e};
+    NodeKey k{Kind::Pow};
+    k.args = args;
+    return Expr(pool().intern(k));
+}
+
+/// c·e for a Number c, canonical: distributes over an Add, merges into a Mul's coefficient.
+Expr scale(Expr c, Expr e) {
+    if (c.is_zero()) return c;
+    if (c.is_one()) return e;
+    switch (e.kind()) {
+    case Kind::Number: return num_mul(c, e);
+    case Kind::Mul: {
+        const Expr k = num_mul(c, e->number);
+        if (k.is_one() && e->nargs == 1) return e.args()[0];
+        return make_mul_node(k, e.args());
+    }
+    case Kind::Add: {
+        std::vector<Expr> coefs(e->nargs);
+        for (std::uint32_t i = 0; i < e->nargs; ++i) coefs[i] = num_mul(c, e->coefs[i]);
+        return make_add_node(num_mul(c, e->number), e.args(), coefs);
+    }
+    case Kind::Constant:
+    case Kind::Symbol:
+    case Kind::TimeDerivative:
+    case Kind::Function:
+    case Kind::Pow: {
+        const Expr f[1] = {e};
+        return make_mul_node(c, f);
+    }
+    }
+    return e;
+}
+
+/// Splits a term into (coefficient, rest).
+std::pair<Expr, Expr> split_term(Expr x) {
+    if (x.kind() == Kind::Mul && !x->number.is_one()) {
+        if (x->nargs == 1) return {x->number, x.args()[0]};
+        return {x->number, make_mul_node(make_int(1), x.args())};
+    }
+    return {make_int(1), x};
+}
+
+} // namespace
+
+// ---- add ----------------------------------------------------------------------------------
+
+Expr add(std::span<const Expr> xs) {
+    if (xs.size() == 1) return xs[0];
+    Expr constant = make_int(0);
+    std::vector<std::pair<Expr, Expr>> terms; // (rest, coefficient)
+    terms.reserve(xs.size() + 4);
+    for (Expr x : xs) {
+        switch (x.kind()) {
+        case Kind::Number: constant = num_add(constant, x); break;
+        case Kind::Add:
+            constant = num_add(constant, x->number);
+            for (std::uint32_t i = 0; i < x->nargs; ++i) terms.emplace_back(x.args()[i], x->coefs[i]);
+            break;
+        case Kind::Mul: {
+            auto [c, r] = split_term(x);
+            terms.emplace_back(r, c);
+            break;
+        }
+        case Kind::Constant:
+        case Kind::Symbol:
+        case Kind::TimeDerivative:
+        case Kind::Function:
+        case Kind::Pow: terms.emplace_back(x, make_int(1)); break;
+        }
+    }
+    std::sort(terms.begin(), terms.end(), [](const auto& a, const auto& b) { return less(a.first, b.first); });
+    std::vector<Expr> rests, coefs;
+    rests.reserve(terms.size());
+    coefs.reserve(terms.size());
+    for (std::size_t i = 0; i < terms.size();) {
+        Expr r = terms[i].first, c = terms[i].second;
+        std::size_t j = i + 1;
+        for (; j < terms.size() && terms[j].first == r; ++j) c = num_add(c, terms[j].second);
+        if (!c.is_zero()) {
+            rests.push_back(r);
+            coefs.push_back(c);
+        }
+        i = j;
+    }
+    if (rests.empty()) return constant;
+    if (rests.size() == 1 && constant.is_zero()) return scale(coefs[0], rests[0]);
+    return make_add_node(constant, rests, coefs);
+}
+
+Expr add(std::initializer_list<Expr> xs) { return add(std::span<const Expr>(xs.begin(), xs.size())); }
+
+// ---- mul ----------------------------------------------------------------------------------
+
+namespace {
+struct Factor {
+    Expr base, exp, original; // original: the factor as given (null after merging)
+};
+Expr base_of(Expr f) { return f.kind() == Kind::Pow ? f.args()[0] : f; }
+} // namespace
+
+Expr mul(std::span<const Expr> xs) {
+    if (xs.size() == 1) return xs[0];
+    Expr coef = make_int(1);
+    std::vector<Factor> fs;
+    fs.reserve(xs.size() + 4);
+    auto push_factor = [&](Expr f) {
+        if (f.kind() == Kind::Pow) fs.push_back({f.args()[0], f.args()[1], f});
+        else fs.push_back({f, make_int(1), f});
+    };
+    for (Expr x : xs) {
+        switch (x.kind()) {
+        case Kind::Number: coef = num_mul(coef, x); break;
+        case Kind::Mul:
+            coef = num_mul(coef, x->number);
+            for (Expr f : x.args()) push_factor(f);
+            break;
+        case Kind::Constant:
+        case Kind::Symbol:
+        case Kind::TimeDerivative:
+        case Kind::Function:
+        case Kind::Pow:
+        case Kind::Add: push_factor(x); break;
+        }
+    }
+    if (coef.is_zero()) return coef;
+    std::sort(fs.begin(), fs.end(), [](const Factor& a, const Factor& b) { return less(a.base, b.base); });
+    std::vector<Expr> out;
+    out.reserve(fs.size());
+    bool reflatten = false;
+    for (std::size_t i = 0; i < fs.size();) {
+        std::size_t j = i + 1;
+        while (j < fs.size() && fs[j].base == fs[i].base) ++j;
+        Expr p;
+        if (j == i + 1) p = fs[i].original; // a lone factor is already canonical
+        else {
+            std::vector<Expr> exps;
+            exps.reserve(j - i);
+            for (std::size_t k = i; k < j; ++k) exps.push_back(fs[k].exp);
+            p = pow(fs[i].base, add(exps));
+        }
+        switch (p.kind()) {
+        case Kind::Number: coef = num_mul(coef, p); break;
+        case Kind::Mul: reflatten = true; out.push_back(p); break;
+        case Kind::Constant:
+        case Kind::Symbol:
+        case Kind::TimeDerivative:
+        case Kind::Function:
+        case Kind::Pow:
+        case Kind::Add:
+            if (base_of(p) != fs[i].base) reflatten = true;
+            out.push_back(p);
+            break;
+        }
+        i = j;
+    }
+    if (reflatten) {
+        out.push_back(coef);
+        return mul(out);
+    }
+    if (coef.is_zero()) return coef;
+    if (out.empty()) return coef;
+    if (out.size() == 1) return scale(coef, out[0]);
+    return make_mul_node(coef, out);
+}
+
+Expr mul(std::initializer_list<Expr> xs) { return mul(std::span<const Expr>(xs.begin(), xs.size())); }
+
+// ---- pow ----------------------------------------------------------------------------------
+
+Expr pow(Expr b, Expr e) {
+    if (e.kind() == Kind::Number) {
+        if (e.is_zero()) return make_int(1);
+        if (e.is_one()) return b;
+        switch (b.kind()) {
+        case Kind::Number: return detail::num_pow(b, e);
+        case Kind::Pow:
+            if (e.is_integer()) return pow(b.args()[0], mul({b.args()[1], e}));
+            break;
+        case Kind::Mul:
+            if (e.is_integer()) {
+                std::vector<Expr> fs;
+                fs.reserve(b->nargs + 1);
+                fs.push_back(detail::num_pow(b->number, e));
+                for (Expr f : b.args()) fs.push_back(pow(f, e));
+                return mul(fs);
+            }
+            break;
+        case Kind::Constant:
+        case Kind::Symbol:
+        case Kind::TimeDerivative:
+        case Kind::Function:
+        case Kind::Add: break;
+        }
+        return make_pow_node(b, e);
+    }
+    if (b.is_one()) return b;
+    return make_pow_node(b, e);
+}
+
+Expr sqrt(Expr x) { return pow(x, rational(1, 2)); }
+
+// ---- functions ----------------------------------------------------------------------------
+
+namespace {
+
+Expr function_node(Function f, Expr x) {
+    const Expr args[1] = {x};
+    NodeKey k{Kind::Function};
+    k.sub = static_cast<std::uint8_t>(f);
+    k.args = args;
+    return Expr(pool().intern(k));
+}
+
+/// If x = c·pi for a rational c, c; otherwise null.
+Expr pi_multiple(Expr x) {
+    if (x == pi()) return make_int(1);
+    if (x.kind() == Kind::Mul && x->nargs == 1 && x.args()[0] == pi()) return x->number;
+    return Expr{};
+}
+
+/// True when x "looks negative": a negative number, or a Mul with a negative coefficient.
+bool negative_form(Expr x) {
+    if (x.kind() == Kind::Number) return detail::num_sign(x) < 0;
+    if (x.kind() == Kind::Mul) return detail::num_sign(x->number) < 0;
+    return false;
+}
+
+/// sin(c·pi) for rational c whose denominator is 1, 2, 3, 4 or 6; null otherwise.
+Expr sin_pi(const mpq_class& c_in) {
+    mpq_class c = c_in;
+    // reduce to [0, 2)
+    mpz_class fl;
+    mpz_fdiv_q(fl.get_mpz_t(), c.get_num_mpz_t(), c.get_den_mpz_t());
+    mpz_class two_k = fl - (fl % 2 + 2) % 2; // largest even integer ≤ c
+    c -= mpq_class(two_k);
+    const mpz_class& d = c.get_den();
+    if (!(d == 1 || d == 2 || d == 3 || d == 4 || d == 6)) return Expr{};
+    const bool upper = c >= 1; // sin negative in (pi, 2pi)
+    if (upper) c -= 1;
+    if (c > mpq_class(1, 2)) c = 1 - c; // sin(pi - x) = sin(x), now c in [0, 1/2]
+    Expr v;
+    if (c == 0) v = make_int(0);
+    else if (c == mpq_class(1, 6)) v = rational(1, 2);
+    else if (c == mpq_class(1, 4)) v = pow(make_int(2), rational(-1, 2));
+    else if (c == mpq_class(1, 3)) v = mul({rational(1, 2), pow(make_int(3), rational(1, 2))});
+    else v = make_int(1); // c == 1/2
+    return upper ? mul({make_int(-1), v}) : v;
+}
+
+} // namespace
+
+Expr sin(Expr x) {
+    if (x.is_zero()) return x;
+    if (Expr c = pi_multiple(x); !c.is_null())
+        if (Expr v = sin_pi(c.value()); !v.is_null()) return v;
+    if (negative_form(x)) return mul({make_int(-1), sin(mul({make_int(-1), x}))});
+    return function_node(Function::Sin, x);
+}
+
+Expr cos(Expr x) {
+    if (x.is_zero()) return make_int(1);
+    if (Expr c = pi_multiple(x); !c.is_null())
+        if (Expr v = sin_pi(c.value() + mpq_class(1, 2)); !v.is_null()) return v;
+    if (negative_form(x)) return cos(mul({make_int(-1), x}));
+    return function_node(Function::Cos, x);
+}
+
+Expr tan(Expr x) {
+    if (x.is_zero()) return x;
+    if (Expr c = pi_multiple(x); !c.is_null()) {
+        Expr s = sin_pi(c.value()), k = sin_pi(c.value() + mpq_class(1, 2));
+        if (!s.is_null() && !k.is_null()) {
+            if (k.is_zero()) throw DomainError("tan is undefined at odd multiples of pi/2");
+            return mul({s, pow(k, make_int(-1))});
+        }
+    }
+    if (negative_form(x)) return mul({make_int(-1), tan(mul({make_int(-1), x}))});
+    return function_node(Function::Tan, x);
+}
+
+Expr exp(Expr x) {
+    if (x.is_zero()) return make_int(1);
+    if (x.kind() == Kind::Function && static_cast<Function>(x->sub) == Function::Log) return x.args()[0];
+    if (x.kind() == Kind::Mul && x->nargs == 1 && x.args()[0].kind() == Kind::Function &&
+        static_cast<Function>(x.args()[0]->sub) == Function::Log)
+        return pow(x.args()[0].args()[0], x->number); // exp(c·log y) = y^c
+    return function_node(Function::Exp, x);
+}
+
+Expr log(Expr x) {
+    if (x.is_one()) return make_int(0);
+    if (x.kind() == Kind::Number && detail::num_sign(x) <= 0)
+        throw DomainError(x.is_zero() ? "log(0) is undefined" : "log of a negative number is undefined");
+    if (x.kind() == Kind::Function && static_cast<Function>(x->sub) == Function::Exp) return x.args()[0];
+    return function_node(Function::Log, x);
+}
+
+Expr function(Function f, Expr x) {
+    switch (f) {
+    case Function::Sin: return sin(x);
+    case Function::Cos: return cos(x);
+    case Function::Tan: return tan(x);
+    case Function::Exp: return exp(x);
+    case Function::Log: return log(x);
+    }
+    return x;
+}
+
+// ---- operators -----------------------------------------------------------------------------
+
+Expr operator+(Expr a, Expr b) { return add({a, b}); }
+Expr operator-(Expr a, Expr b) { return add({a, mul({make_int(-1), b})}); }
+Expr operator*(Expr a, Expr b) { return mul({a, b}); }
+Expr operator/(Expr a, Expr b) { return mul({a, pow(b, make_int(-1))}); }
+Expr operator-(Expr a) { return mul({make_int(-1), a}); }
+
+// ---- inspection ----------------------------------------------------------------------------
+
+std::string_view symbol_name(Expr e) noexcept {
+    if (e.kind() == Kind::Symbol) return e->name;
+    if (e.kind() == Kind::TimeDerivative) return e.args()[0]->name;
+    return {};
+}
+int derivative_order(Expr e) noexcept { return e.kind() == Kind::TimeDerivative ? e->sub : 0; }
+
+namespace {
+void collect(Expr e, std::unordered_set<const Node*>& seen, std::vector<Expr>& stack) {
+    stack.push_back(e);
+    while (!stack.empty()) {
+        Expr x = stack.back();
+        stack.pop_back();
+        if (!seen.insert(x.get()).second) continue;
+        for (Expr a : x.args()) stack.push_back(a);
+    }
+}
+} // namespace
+
+std::size_t dag_size(std::span<const Expr> es) {
+    std::unordered_set<const Node*> seen;
+    std::vector<Expr> stack;
+    for (Expr e : es) collect(e, seen, stack);
+    return seen.size();
+}
+std::size_t dag_size(Expr e) { return dag_size(std::span<const Expr>(&e, 1)); }
+
+std::size_t tree_size(Expr e) {
+    std::unordered_map<const Node*, std::size_t> memo;
+    auto rec = [&](auto&& self, Expr x) -> std::size_t {
+        if (x->nargs == 0) return 1;
+        if (auto it = memo.find(x.get()); it != memo.end()) return it->second;
+        std::size_t s = 1;
+        auto sat_add = [](std::size_t a, std::size_t b) { return a > SIZE_MAX - b ? SIZE_MAX : a + b; };
+        for (std::uint32_t i = 0; i < x->nargs; ++i) {
+            s = sat_add(s, self(self, x.args()[i]));
+            if (x.kind() == Kind::Add && !x->coefs[i].is_one()) s = sat_add(s, 1);
+        }
+        if (x.kind() == Kind::Add && !x->number.is_zero()) s = sat_add(s, 1);
+        if (x.kind() == Kind::Mul && !x->number.is_one()) s = sat_add(s, 1);
+        memo.emplace(x.get(), s);
+        return s;
+    };
+    return rec(rec, e);
+}
+
+} // namespace phynjo::cas

@@ -1,0 +1,20 @@
+#pragma once
+// Internal: exact arithmetic on Number nodes, with an int64 fast path.
+#include "pool_impl.hpp"
+
+namespace phynjo::cas::detail {
+
+Expr make_number(const mpq_class& v);
+Expr make_int(std::int64_t v);
+Expr num_add(Expr a, Expr b);
+Expr num_mul(Expr a, Expr b);
+Expr num_neg(Expr a);
+Expr num_inv(Expr a); // throws DomainError on 0
+int num_sign(Expr a) noexcept;
+int num_cmp(Expr a, Expr b) noexcept;
+bool num_is_integer(Expr a) noexcept;
+/// b^e for Numbers b, e: a Number when exact, otherwise a canonical Pow (or Mul of a
+/// rational and a Pow). Throws DomainError (0^negative) or LimitError (too large).
+Expr num_pow(Expr b, Expr e);
+
+} // namespace phynjo::cas::detail

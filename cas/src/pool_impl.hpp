@@ -1,0 +1,77 @@
+#pragma once
+// Internal: the pool's storage and intern table, and the helpers every factory uses.
+#include "phynjo/cas/errors.hpp"
+#include "phynjo/cas/expr.hpp"
+#include "phynjo/cas/pool.hpp"
+
+#include <cassert>
+#include <memory_resource>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+namespace phynjo::cas::detail {
+
+// ---- structural hashing: fixed constants, so hashes (and hence the canonical order) are
+// identical across runs, compilers and platforms.
+inline constexpr std::uint64_t mix(std::uint64_t h, std::uint64_t v) noexcept {
+    h ^= v + 0x9E3779B97F4A7C15ULL + (h << 6) + (h >> 2);
+    h *= 0xBF58476D1CE4E5B9ULL;
+    return h ^ (h >> 31);
+}
+inline std::uint64_t hash_bytes(std::string_view s) noexcept {
+    std::uint64_t h = 0xCBF29CE484222325ULL; // FNV-1a
+    for (unsigned char c : s) h = (h ^ c) * 0x100000001B3ULL;
+    return h;
+}
+
+/// What identifies a node: the fields the intern table compares.
+struct NodeKey {
+    Kind kind;
+    std::uint8_t sub = 0;
+    std::span<const Expr> args{};
+    std::span<const Expr> coefs{};
+    Expr number{};
+    std::string_view name{};
+    const mpq_class* value = nullptr; // Number, not small
+    bool small = false;
+    std::int64_t small_value = 0;
+    std::uint64_t hash = 0;
+};
+
+std::uint64_t hash_of(const NodeKey& k) noexcept;
+
+struct PoolImpl {
+    explicit PoolImpl(std::uint32_t id);
+    ~PoolImpl();
+
+    /// The unique node with this structure, made if new. Children must belong to this pool.
+    const Node* intern(NodeKey& key);
+
+    std::uint32_t id;
+    std::pmr::monotonic_buffer_resource arena{1 << 16};
+    std::vector<const Node*> table; // open addressing, power-of-two capacity, linear probing
+    std::size_t count = 0;
+    std::vector<mpq_class*> big_numbers; // destroyed with the pool
+
+    static constexpr int small_cache = 64;
+    Expr small_ints[2 * small_cache + 1]{};
+    Expr pi, time;
+
+    struct PairHash {
+        std::size_t operator()(const std::pair<const Node*, const Node*>& p) const noexcept {
+            return static_cast<std::size_t>(mix(reinterpret_cast<std::uintptr_t>(p.first),
+                                                reinterpret_cast<std::uintptr_t>(p.second)));
+        }
+    };
+    std::unordered_map<std::pair<const Node*, const Node*>, Expr, PairHash> diff_memo;
+    std::unordered_map<const Node*, Expr> dt_memo;
+
+private:
+    void grow();
+    const Node* make(const NodeKey& key);
+};
+
+inline PoolImpl& pool() { return Pool::current().impl(); }
+
+} // namespace phynjo::cas::detail

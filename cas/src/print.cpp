@@ -1,0 +1,294 @@
+// The three printers share one skeleton: a sum prints its terms with signs pulled out, a
+// product splits into numerator and denominator, and parentheses follow precedence.
+#include "phynjo/cas/print.hpp"
+
+#include "number_ops.hpp"
+#include "phynjo/cas/rational.hpp"
+
+#include <algorithm>
+#include <array>
+
+namespace phynjo::cas {
+
+namespace {
+
+enum class Prec : int { Add = 1, Mul = 2, Neg = 3, Pow = 4, Atom = 5 };
+enum class Mode { Infix, Cpp, Latex };
+
+struct Out {
+    std::string s;
+    Prec p;
+};
+
+bool is_fn(Expr x, Function f) { return x.kind() == Kind::Function && static_cast<Function>(x->sub) == f; }
+
+class Printer {
+public:
+    Printer(Mode mode, const CppOptions* cpp) : mode_(mode), cpp_(cpp) {}
+
+    Out print(Expr x) {
+        switch (x.kind()) {
+        case Kind::Number: return number(x.value());
+        case Kind::Constant:
+            if (mode_ == Mode::Cpp) return {"3.141592653589793", Prec::Atom};
+            return {mode_ == Mode::Latex ? "\\pi" : "pi", Prec::Atom};
+        case Kind::Symbol:
+        case Kind::TimeDerivative: return {variable(x), Prec::Atom};
+        case Kind::Function: return function(x);
+        case Kind::Pow: {
+            const Expr e = x.args()[1];
+            if (e.kind() == Kind::Number && detail::num_sign(e) < 0) {
+                const Expr one[1] = {x};
+                return product(Expr(1), one);
+            }
+            return power(x.args()[0], e);
+        }
+        case Kind::Mul: return product(x->number, x.args());
+        case Kind::Add: return sum(x);
+        }
+        return {"?", Prec::Atom};
+    }
+
+private:
+    Mode mode_;
+    const CppOptions* cpp_;
+
+    static std::string wrap(const Out& o, Prec need, bool latex = false) {
+        if (static_cast<int>(o.p) >= static_cast<int>(need)) return o.s;
+        return latex ? "\\left(" + o.s + "\\right)" : "(" + o.s + ")";
+    }
+
+    Out number(const mpq_class& q) {
+        const bool neg = sgn(q) < 0;
+        if (mode_ == Mode::Cpp) {
+            std::string s = double_literal(to_double(q));
+            return {s, neg ? Prec::Neg : Prec::Atom};
+        }
+        const mpq_class a = abs(q);
+        std::string s;
+        if (a.get_den() == 1) s = a.get_num().get_str();
+        else if (mode_ == Mode::Latex) s = "\\frac{" + a.get_num().get_str() + "}{" + a.get_den().get_str() + "}";
+        else s = a.get_num().get_str() + "/" + a.get_den().get_str();
+        const Prec p = a.get_den() == 1 || mode_ == Mode::Latex ? Prec::Atom : Prec::Mul;
+        if (neg) return {"-" + s, Prec::Neg};
+        return {s, p};
+    }
+
+    std::string variable(Expr x) {
+        if (mode_ == Mode::Cpp) return cpp_ && cpp_->variable_name ? cpp_->variable_name(x) : default_cpp_name(x);
+        if (mode_ == Mode::Latex) return latex_variable(x);
+        std::string s(symbol_name(x));
+        s.append(static_cast<std::size_t>(derivative_order(x)), '\'');
+        return s;
+    }
+
+    static std::string latex_name(std::string_view name) {
+        static constexpr std::array<std::string_view, 35> greek = {
+            "alpha", "beta", "gamma", "delta", "epsilon", "zeta", "eta", "theta", "iota", "kappa", "lambda",
+            "mu", "nu", "xi", "rho", "sigma", "tau", "upsilon", "phi", "chi", "psi", "omega", "Gamma",
+            "Delta", "Theta", "Lambda", "Xi", "Pi", "Sigma", "Upsilon", "Phi", "Psi", "Omega", "varphi", "vartheta"};
+        std::size_t cut = name.size();
+        while (cut > 1 && (std::isdigit(static_cast<unsigned char>(name[cut - 1])))) --cut;
+        std::string_view base = name.substr(0, cut), sub = name.substr(cut);
+        if (auto u = base.find('_'); u != std::string_view::npos && u > 0 && sub.empty()) {
+            sub = base.substr(u + 1);
+            base = base.substr(0, u);
+        }
+        std::string b;
+        if (std::find(greek.begin(), greek.end(), base) != greek.end()) b = "\\" + std::string(base);
+        else if (base.size() == 1) b = std::string(base);
+        else b = "\\mathrm{" + escape(base) + "}";
+        if (!sub.empty()) b += "_{" + escape(sub) + "}";
+        return b;
+    }
+    static std::string escape(std::string_view s) {
+        std::string r;
+        for (char c : s) {
+            if (c == '_') r += "\\_";
+            else r += c;
+        }
+        return r;
+    }
+    static std::string latex_variable(Expr x) {
+        std::string n = latex_name(symbol_name(x));
+        switch (derivative_order(x)) {
+        case 0: return n;
+        case 1: return "\\dot{" + n + "}";
+        case 2: return "\\ddot{" + n + "}";
+        case 3: return "\\dddot{" + n + "}";
+        default: return n + "^{(" + std::to_string(derivative_order(x)) + ")}";
+        }
+    }
+
+    Out function(Expr x) {
+        const Function f = static_cast<Function>(x->sub);
+        Out a = print(x.args()[0]);
+        if (mode_ == Mode::Cpp) return {"std::" + std::string(function_name(f)) + "(" + a.s + ")", Prec::Atom};
+        if (mode_ == Mode::Latex) {
+            if (f == Function::Exp) return {"e^{" + a.s + "}", Prec::Pow};
+            return {"\\" + std::string(function_name(f)) + "{\\left(" + a.s + " \\right)}", Prec::Atom};
+        }
+        return {std::string(function_name(f)) + "(" + a.s + ")", Prec::Atom};
+    }
+
+    // b^e with e not a negative number.
+    Out power(Expr b, Expr e) {
+        if (e == rational(1, 2)) {
+            Out a = print(b);
+            if (mode_ == Mode::Cpp) return {"std::sqrt(" + a.s + ")", Prec::Atom};
+            if (mode_ == Mode::Latex) return {"\\sqrt{" + a.s + "}", Prec::Atom};
+            return {"sqrt(" + a.s + ")", Prec::Atom};
+        }
+        Out base = print(b);
+        if (mode_ == Mode::Cpp) {
+            if (e.is_integer() && abs(e.value()) <= cpp_max_power()) {
+                const long n = e.value().get_num().get_si();
+                const bool simple = base.p == Prec::Atom;
+                if (simple || n <= 3) {
+                    std::string s = wrap(base, Prec::Atom);
+                    std::string r = s;
+                    for (long k = 1; k < n; ++k) r += "*" + s;
+                    return {r, n == 1 ? base.p : Prec::Mul};
+                }
+            }
+            return {"std::pow(" + base.s + ", " + print(e).s + ")", Prec::Atom};
+        }
+        if (mode_ == Mode::Latex) {
+            Out ex = print(e);
+            if (b.kind() == Kind::Function && e.is_integer() && !is_fn(b, Function::Exp)) {
+                // \sin^{2}{\left(x \right)}
+                const std::string name(function_name(static_cast<Function>(b->sub)));
+                return {"\\" + name + "^{" + ex.s + "}{\\left(" + print(b.args()[0]).s + " \\right)}", Prec::Atom};
+            }
+            return {wrap(base, Prec::Atom, true) + "^{" + ex.s + "}", Prec::Pow};
+        }
+        Out ex = print(e);
+        return {wrap(base, Prec::Atom) + "^" + wrap(ex, Prec::Atom), Prec::Pow};
+    }
+
+    int cpp_max_power() const { return cpp_ ? cpp_->max_multiply_power : 8; }
+
+    // Display order of factors: numbers, constants, variables, functions, sums; then text.
+    static int rank(Expr f) {
+        Expr b = f.kind() == Kind::Pow ? f.args()[0] : f;
+        switch (b.kind()) {
+        case Kind::Number: return 0;
+        case Kind::Constant: return 1;
+        case Kind::Symbol:
+        case Kind::TimeDerivative: return 2;
+        case Kind::Function: return 3;
+        case Kind::Pow:
+        case Kind::Mul: return 4;
+        case Kind::Add: return 5;
+        }
+        return 6;
+    }
+    std::vector<Expr> display_order(std::span<const Expr> fs) {
+        std::vector<std::pair<std::pair<int, std::string>, Expr>> keyed;
+        for (Expr f : fs) {
+            const Expr b = f.kind() == Kind::Pow ? f.args()[0] : f; // key on the base: no recursion into f
+            keyed.push_back({{rank(f), Printer(Mode::Infix, nullptr).print(b).s}, f});
+        }
+        std::stable_sort(keyed.begin(), keyed.end(), [](auto& a, auto& b) { return a.first < b.first; });
+        std::vector<Expr> out;
+        for (auto& k : keyed) out.push_back(k.second);
+        return out;
+    }
+
+    // c · Π factors, with factors of negative numeric exponent in a denominator.
+    Out product(Expr c, std::span<const Expr> factors) {
+        const bool neg = detail::num_sign(c) < 0;
+        const mpq_class a = abs(c.value());
+        std::vector<std::string> num, den;
+        const std::string sep = mode_ == Mode::Latex ? " " : "*";
+        const bool latex = mode_ == Mode::Latex;
+        if (mode_ == Mode::Cpp) {
+            if (a != 1) num.push_back(double_literal(to_double(a)));
+        } else {
+            if (a.get_num() != 1) num.push_back(a.get_num().get_str());
+            if (a.get_den() != 1) den.push_back(a.get_den().get_str());
+        }
+        for (Expr f : display_order(factors)) {
+            if (f.kind() == Kind::Pow && f.args()[1].kind() == Kind::Number && detail::num_sign(f.args()[1]) < 0) {
+                Out o = print(pow(f.args()[0], detail::num_neg(f.args()[1])));
+                den.push_back(latex ? wrap(o, Prec::Mul, true) : wrap(o, Prec::Pow));
+            } else {
+                Out o = print(f);
+                num.push_back(wrap(o, Prec::Mul, latex));
+            }
+        }
+        auto join = [&](const std::vector<std::string>& v) {
+            std::string s;
+            for (std::size_t i = 0; i < v.size(); ++i) {
+                if (i) s += sep;
+                s += v[i];
+            }
+            return s;
+        };
+        std::string s;
+        Prec p = Prec::Mul;
+        if (latex && !den.empty()) {
+            s = "\\frac{" + (num.empty() ? std::string("1") : join(num)) + "}{" + join(den) + "}";
+            p = Prec::Atom;
+        } else {
+            s = num.empty() ? (mode_ == Mode::Cpp ? "1.0" : "1") : join(num);
+            if (!den.empty()) {
+                s += "/";
+                s += den.size() == 1 ? den[0] : "(" + join(den) + ")";
+            }
+        }
+        if (num.size() == 1 && den.empty() && factors.size() == 1 && a == 1) {
+            // c = ±1 times one factor: the factor's own form and precedence (x^2 stays a Pow)
+            Out o = print(factors[0]);
+            s = o.s;
+            p = o.p;
+        }
+        if (neg) return {"-" + s, Prec::Neg};
+        return {s, p};
+    }
+
+    Out sum(Expr x) {
+        // terms in display order, the constant last
+        std::vector<std::pair<std::string, std::size_t>> order;
+        for (std::uint32_t i = 0; i < x->nargs; ++i)
+            order.push_back({Printer(Mode::Infix, nullptr).print(x.args()[i]).s, i});
+        std::stable_sort(order.begin(), order.end());
+        std::string s;
+        bool first = true;
+        auto emit = [&](Out o) {
+            const bool neg = o.p == Prec::Neg && !o.s.empty() && o.s[0] == '-';
+            if (first) s = o.s;
+            else if (neg) s += " - " + o.s.substr(1);
+            else s += " + " + o.s;
+            first = false;
+        };
+        for (auto& [key, i] : order) {
+            const Expr rest = x.args()[i], c = x->coefs[i];
+            if (rest.kind() == Kind::Mul) emit(product(c, rest.args()));
+            else {
+                const Expr one[1] = {rest};
+                emit(product(c, one));
+            }
+        }
+        if (!x->number.is_zero()) emit(number(x->number.value()));
+        return {s, Prec::Add};
+    }
+};
+
+} // namespace
+
+std::string default_cpp_name(Expr v) {
+    std::string s(symbol_name(v));
+    switch (derivative_order(v)) {
+    case 0: return s;
+    case 1: return s + "_dot";
+    case 2: return s + "_ddot";
+    default: return s + "_d" + std::to_string(derivative_order(v));
+    }
+}
+
+std::string to_string(Expr e) { return Printer(Mode::Infix, nullptr).print(e).s; }
+std::string to_cpp(Expr e, const CppOptions& options) { return Printer(Mode::Cpp, &options).print(e).s; }
+std::string to_latex(Expr e) { return Printer(Mode::Latex, nullptr).print(e).s; }
+
+} // namespace phynjo::cas

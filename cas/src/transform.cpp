@@ -1,0 +1,266 @@
+#include "phynjo/cas/transform.hpp"
+
+#include "phynjo/cas/diff.hpp"
+#include "phynjo/cas/errors.hpp"
+
+#include <algorithm>
+#include <string>
+#include <unordered_set>
+
+namespace phynjo::cas {
+
+Expr rebuild(Expr e, std::span<const Expr> a) {
+    switch (e.kind()) {
+    case Kind::Number:
+    case Kind::Constant:
+    case Kind::Symbol: return e;
+    case Kind::TimeDerivative: {
+        Expr x = a[0];
+        if (x == e.args()[0]) return e;
+        for (int k = 0; k < e->sub; ++k) x = time_derivative(x);
+        return x;
+    }
+    case Kind::Function: return function(static_cast<Function>(e->sub), a[0]);
+    case Kind::Pow: return pow(a[0], a[1]);
+    case Kind::Mul: {
+        std::vector<Expr> fs(a.begin(), a.end());
+        fs.push_back(e->number);
+        return mul(fs);
+    }
+    case Kind::Add: {
+        std::vector<Expr> ts;
+        ts.reserve(a.size() + 1);
+        for (std::size_t i = 0; i < a.size(); ++i) ts.push_back(mul({e->coefs[i], a[i]}));
+        ts.push_back(e->number);
+        return add(ts);
+    }
+    }
+    return e;
+}
+
+namespace {
+
+/// Bottom-up map with a memo: f(node, rebuilt-children-node).
+template <typename F>
+Expr map_bottom_up(Expr e, std::unordered_map<const Node*, Expr>& memo, F&& f) {
+    auto rec = [&](auto&& self, Expr x) -> Expr {
+        if (auto it = memo.find(x.get()); it != memo.end()) return it->second;
+        Expr r;
+        if (x->nargs == 0) r = f(x);
+        else {
+            std::vector<Expr> a;
+            a.reserve(x->nargs);
+            bool same = true;
+            for (Expr c : x.args()) {
+                a.push_back(self(self, c));
+                same = same && a.back() == c;
+            }
+            r = f(same ? x : rebuild(x, a));
+        }
+        memo.emplace(x.get(), r);
+        return r;
+    };
+    return rec(rec, e);
+}
+
+// ---- expand -----------------------------------------------------------------------------
+
+/// The terms of an expanded expression (a sum becomes its terms, anything else one term).
+void terms_of(Expr e, std::vector<Expr>& out) {
+    if (e.kind() == Kind::Add) {
+        for (std::uint32_t i = 0; i < e->nargs; ++i) out.push_back(mul({e->coefs[i], e.args()[i]}));
+        if (!e->number.is_zero()) out.push_back(e->number);
+    } else out.push_back(e);
+}
+
+void check_terms(std::size_t n) {
+    if (n > limits::max_expand_terms)
+        throw LimitError("expansion would have more than " + std::to_string(limits::max_expand_terms) + " terms");
+}
+
+/// Product of two expanded expressions, expanded.
+Expr expand_product(Expr a, Expr b) {
+    std::vector<Expr> ta, tb;
+    terms_of(a, ta);
+    terms_of(b, tb);
+    if (ta.size() == 1 && tb.size() == 1) return mul({a, b});
+    check_terms(ta.size() * tb.size());
+    std::vector<Expr> out;
+    out.reserve(ta.size() * tb.size());
+    for (Expr x : ta)
+        for (Expr y : tb) out.push_back(mul({x, y}));
+    return add(out);
+}
+
+Expr expand_node(Expr x) {
+    switch (x.kind()) {
+    case Kind::Mul: {
+        Expr acc = x->number;
+        for (Expr f : x.args()) acc = expand_product(acc, f);
+        return acc;
+    }
+    case Kind::Pow: {
+        const Expr b = x.args()[0], e = x.args()[1];
+        if (b.kind() != Kind::Add || !e.is_integer() || e.value() <= 1) return x;
+        const mpz_class n = e.value().get_num();
+        if (n > 10'000) throw LimitError("expansion of a power above 10000");
+        if (b->nargs >= 2 || !b->number.is_zero()) check_terms(static_cast<std::size_t>(n.get_ui()) + 1);
+        // square-and-multiply keeps the number of large products at O(log n)
+        Expr result = Expr(1), base = b;
+        for (unsigned long k = n.get_ui(); k; k >>= 1) {
+            if (k & 1) result = expand_product(result, base);
+            if (k > 1) base = expand_product(base, base);
+        }
+        return result;
+    }
+    case Kind::Number:
+    case Kind::Constant:
+    case Kind::Symbol:
+    case Kind::TimeDerivative:
+    case Kind::Function:
+    case Kind::Add: return x;
+    }
+    return x;
+}
+
+// ---- simplify -----------------------------------------------------------------------------
+
+bool is_fn(Expr x, Function f) { return x.kind() == Kind::Function && static_cast<Function>(x->sub) == f; }
+
+/// sin(u)^2·R + cos(u)^2·R → R inside one sum (equal coefficients), repeated to a fixed point.
+Expr pythagoras(Expr s) {
+    if (s.kind() != Kind::Add) return s;
+    // rest → coefficient; the constant term has rest 1.
+    std::vector<std::pair<Expr, Expr>> terms;
+    for (std::uint32_t i = 0; i < s->nargs; ++i) terms.emplace_back(s.args()[i], s->coefs[i]);
+    if (!s->number.is_zero()) terms.emplace_back(Expr(1), s->number);
+    bool changed = false;
+    for (bool again = true; again;) {
+        again = false;
+        for (std::size_t i = 0; i < terms.size() && !again; ++i) {
+            const Expr t = terms[i].first;
+            std::span<const Expr> fs = t.kind() == Kind::Mul ? t.args() : std::span<const Expr>(&terms[i].first, 1);
+            for (Expr f : fs) {
+                if (f.kind() != Kind::Pow || !is_fn(f.args()[0], Function::Sin) || !f.args()[1].is_integer() ||
+                    f.args()[1].value() < 2)
+                    continue;
+                const Expr u = f.args()[0].args()[0];
+                const Expr r = mul({t, pow(sin(u), Expr(-2))});
+                const Expr partner = mul({r, pow(cos(u), Expr(2))});
+                auto it = std::find_if(terms.begin(), terms.end(), [&](auto& p) { return p.first == partner; });
+                if (it == terms.end() || it->second != terms[i].second) continue;
+                const Expr c = terms[i].second;
+                const std::size_t j = static_cast<std::size_t>(it - terms.begin());
+                terms.erase(terms.begin() + static_cast<std::ptrdiff_t>(std::max(i, j)));
+                terms.erase(terms.begin() + static_cast<std::ptrdiff_t>(std::min(i, j)));
+                // c·r may itself be a sum or merge with an existing term: rebuild through add.
+                std::vector<Expr> all;
+                for (auto& [rest, coef] : terms) all.push_back(mul({coef, rest}));
+                all.push_back(mul({c, r}));
+                const Expr merged = add(all);
+                terms.clear();
+                if (merged.kind() == Kind::Add) {
+                    for (std::uint32_t k = 0; k < merged->nargs; ++k) terms.emplace_back(merged.args()[k], merged->coefs[k]);
+                    if (!merged->number.is_zero()) terms.emplace_back(Expr(1), merged->number);
+                } else terms.emplace_back(merged, Expr(1));
+                again = changed = true;
+                break;
+            }
+        }
+    }
+    if (!changed) return s;
+    std::vector<Expr> all;
+    for (auto& [rest, coef] : terms) all.push_back(mul({coef, rest}));
+    return add(all);
+}
+
+Expr trig_simplify(Expr e) {
+    std::unordered_map<const Node*, Expr> memo;
+    return map_bottom_up(e, memo, [](Expr x) { return pythagoras(x); });
+}
+
+} // namespace
+
+Expr expand(Expr e) {
+    std::unordered_map<const Node*, Expr> memo;
+    return map_bottom_up(e, memo, [](Expr x) { return expand_node(x); });
+}
+
+Expr simplify(Expr e) {
+    for (int iteration = 0; iteration < 64; ++iteration) {
+        Expr best = trig_simplify(e);
+        try {
+            const Expr expanded = trig_simplify(expand(e));
+            if (tree_size(expanded) < tree_size(best)) best = expanded;
+        } catch (const LimitError&) {
+            // expansion too large: keep the unexpanded form
+        }
+        if (best == e) return e;
+        e = best;
+    }
+    return e;
+}
+
+Expr subs(Expr e, const std::unordered_map<Expr, Expr>& replacements) {
+    if (replacements.empty()) return e;
+    std::unordered_map<const Node*, Expr> memo;
+    auto rec = [&](auto&& self, Expr x) -> Expr {
+        if (auto r = replacements.find(x); r != replacements.end()) return r->second;
+        if (x->nargs == 0) return x;
+        if (auto it = memo.find(x.get()); it != memo.end()) return it->second;
+        std::vector<Expr> a;
+        a.reserve(x->nargs);
+        bool same = true;
+        for (Expr c : x.args()) {
+            a.push_back(self(self, c));
+            same = same && a.back() == c;
+        }
+        Expr r = same ? x : rebuild(x, a);
+        memo.emplace(x.get(), r);
+        return r;
+    };
+    return rec(rec, e);
+}
+
+namespace {
+template <typename Keep>
+std::vector<Expr> collect_atoms(Expr e, Keep&& keep) {
+    std::unordered_set<const Node*> seen;
+    std::vector<Expr> stack{e}, out;
+    while (!stack.empty()) {
+        Expr x = stack.back();
+        stack.pop_back();
+        if (!seen.insert(x.get()).second) continue;
+        if (keep(x)) out.push_back(x);
+        for (Expr c : x.args()) stack.push_back(c);
+    }
+    std::sort(out.begin(), out.end(), [](Expr a, Expr b) {
+        if (symbol_name(a) != symbol_name(b)) return symbol_name(a) < symbol_name(b);
+        return derivative_order(a) < derivative_order(b);
+    });
+    return out;
+}
+} // namespace
+
+std::vector<Expr> free_symbols(Expr e) {
+    return collect_atoms(e, [](Expr x) { return x.kind() == Kind::Symbol; });
+}
+std::vector<Expr> free_variables(Expr e) {
+    return collect_atoms(e, [](Expr x) { return x.is_atom_variable(); });
+}
+
+bool contains(Expr e, Expr x) {
+    if (x.is_atom_variable() && (e->atom_mask & x->atom_mask) == 0) return false;
+    std::unordered_set<const Node*> seen;
+    std::vector<Expr> stack{e};
+    while (!stack.empty()) {
+        Expr y = stack.back();
+        stack.pop_back();
+        if (y == x) return true;
+        if (!seen.insert(y.get()).second) continue;
+        for (Expr c : y.args()) stack.push_back(c);
+    }
+    return false;
+}
+
+} // namespace phynjo::cas

@@ -1,0 +1,8 @@
+# Third-party dependencies, all from Debian packages (scripts/install-deps).
+# Also included by the installed phynjoConfig.cmake, so keep it self-contained.
+include_guard(GLOBAL)
+find_package(PkgConfig REQUIRED)
+if(NOT TARGET PkgConfig::GMPXX)
+  pkg_check_modules(GMPXX REQUIRED IMPORTED_TARGET GLOBAL gmpxx gmp)
+endif()
+find_package(Boost 1.74 REQUIRED)   # header-only: Spirit X3
