@@ -162,6 +162,29 @@ std::pair<Expr, Expr> split_term(Expr x) {
     return {make_int(1), x};
 }
 
+/// A sum as content · primitive sum: the content is ±gcd(numerators)/lcm(denominators) of
+/// its coefficients and constant, signed so that the primitive sum's first term (in the
+/// canonical order) has a positive coefficient. Products keep only primitive sums as
+/// factors; that is what makes mul associative while c·(a+b) still distributes.
+std::pair<Expr, Expr> primitive_part(Expr s) {
+    mpz_class g = 0, l = 1;
+    auto take = [&](Expr c) {
+        const mpq_class& v = c.value();
+        mpz_gcd(g.get_mpz_t(), g.get_mpz_t(), v.get_num_mpz_t());
+        mpz_lcm(l.get_mpz_t(), l.get_mpz_t(), v.get_den_mpz_t());
+    };
+    for (std::uint32_t i = 0; i < s->nargs; ++i) take(s->coefs[i]);
+    if (!s->number.is_zero()) take(s->number);
+    mpq_class content(g, l);
+    content.canonicalize();
+    if (detail::num_sign(s->coefs[0]) < 0) content = -content;
+    if (content == 1) return {make_int(1), s};
+    const Expr inv = make_number(1 / content);
+    std::vector<Expr> coefs(s->nargs);
+    for (std::uint32_t i = 0; i < s->nargs; ++i) coefs[i] = num_mul(inv, s->coefs[i]);
+    return {make_number(content), make_add_node(num_mul(inv, s->number), s.args(), coefs)};
+}
+
 } // namespace
 
 // ---- add ----------------------------------------------------------------------------------
@@ -227,7 +250,11 @@ Expr mul(std::span<const Expr> xs) {
     fs.reserve(xs.size() + 4);
     auto push_factor = [&](Expr f) {
         if (f.kind() == Kind::Pow) fs.push_back({f.args()[0], f.args()[1], f});
-        else fs.push_back({f, make_int(1), f});
+        else if (f.kind() == Kind::Add) {
+            auto [content, prim] = primitive_part(f);
+            coef = num_mul(coef, content);
+            fs.push_back({prim, make_int(1), prim});
+        } else fs.push_back({f, make_int(1), f});
     };
     for (Expr x : xs) {
         switch (x.kind()) {
@@ -307,11 +334,16 @@ Expr pow(Expr b, Expr e) {
                 return mul(fs);
             }
             break;
+        case Kind::Add:
+            if (e.is_integer()) {
+                auto [content, prim] = primitive_part(b);
+                if (!content.is_one()) return mul({detail::num_pow(content, e), make_pow_node(prim, e)});
+            }
+            break;
         case Kind::Constant:
         case Kind::Symbol:
         case Kind::TimeDerivative:
-        case Kind::Function:
-        case Kind::Add: break;
+        case Kind::Function: break;
         }
         return make_pow_node(b, e);
     }

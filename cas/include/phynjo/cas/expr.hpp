@@ -14,9 +14,13 @@
 /// - `Mul`: a coefficient (a nonzero Number, 1 if absent) times at least one factor; factors
 ///   are neither Numbers nor Muls, their bases (`b` of `b^e`) are unique and sorted; a lone
 ///   factor has a coefficient other than 1 and is not an Add (a number times a sum is
-///   distributed, as in SymPy).
+///   distributed, as in SymPy). A sum standing as a factor among others is *primitive*: its
+///   coefficients have no common rational content and its first term is positive, the
+///   content having moved into the product's coefficient. This keeps `mul` associative
+///   (`((x+y)*2)*c` and `(x+y)*(2*c)` are one node) while `e - e` is 0 for every e.
 /// - `Pow`: `b^e` with e ≠ 0, e ≠ 1, b ≠ 1; a Number base has a non-integer exponent; a
-///   Mul base or a Pow base has a non-integer exponent.
+///   Mul base or a Pow base has a non-integer exponent; an Add base under an integer
+///   exponent is primitive.
 /// - `TimeDerivative`: `x'`, `x''`, … of a Symbol other than `t` (time), order ≥ 1.
 #include <gmpxx.h>
 

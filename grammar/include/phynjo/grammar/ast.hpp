@@ -1,0 +1,83 @@
+#pragma once
+/// \file
+/// The position-tagged syntax tree of the expression language (lag-format.md, *Expressions*).
+/// Precedence is the tree's shape: Sum of Products of Unary of Power of Postfix of Primary.
+#include <boost/optional.hpp>
+#include <boost/spirit/home/x3/support/ast/position_tagged.hpp>
+#include <boost/spirit/home/x3/support/ast/variant.hpp>
+
+#include <string>
+#include <vector>
+
+namespace phynjo::grammar::ast {
+
+namespace x3 = boost::spirit::x3;
+
+struct Number : x3::position_tagged {
+    std::string text; ///< as written: `9.81`, `1e-3`
+};
+
+struct Name : x3::position_tagged {
+    std::string text;
+};
+
+struct Expression;
+struct Unary;
+
+/// `f(arg)`.
+struct Call : x3::position_tagged {
+    Name function;
+    x3::forward_ast<Expression> arg;
+};
+
+/// `( expression )`.
+struct Paren : x3::position_tagged {
+    x3::forward_ast<Expression> inner;
+};
+
+struct Primary : x3::variant<Number, Call, Name, Paren> {
+    using base_type::base_type;
+    using base_type::operator=;
+};
+
+/// `primary'''`: time derivatives.
+struct Postfix : x3::position_tagged {
+    Primary primary;
+    std::string primes; ///< one `'` per derivative
+};
+
+/// `base ^ exponent` (right associative: the exponent is a Unary).
+struct Power : x3::position_tagged {
+    Postfix base;
+    boost::optional<x3::forward_ast<Unary>> exponent;
+};
+
+/// `-…-power`.
+struct Unary : x3::position_tagged {
+    std::string signs; ///< one `-` per negation
+    Power power;
+};
+
+/// `* operand` or `/ operand`.
+struct ProductOp : x3::position_tagged {
+    char op = '*';
+    Unary operand;
+};
+
+struct Product : x3::position_tagged {
+    Unary first;
+    std::vector<ProductOp> rest;
+};
+
+/// `+ operand` or `- operand`.
+struct SumOp : x3::position_tagged {
+    char op = '+';
+    Product operand;
+};
+
+struct Expression : x3::position_tagged {
+    Product first;
+    std::vector<SumOp> rest;
+};
+
+} // namespace phynjo::grammar::ast

@@ -1,0 +1,17 @@
+#pragma once
+// Fusion adaptation of the AST, for the X3 rules only.
+#include "phynjo/grammar/ast.hpp"
+
+#include <boost/fusion/include/adapt_struct.hpp>
+
+BOOST_FUSION_ADAPT_STRUCT(phynjo::grammar::ast::Number, text)
+BOOST_FUSION_ADAPT_STRUCT(phynjo::grammar::ast::Name, text)
+BOOST_FUSION_ADAPT_STRUCT(phynjo::grammar::ast::Call, function, arg)
+BOOST_FUSION_ADAPT_STRUCT(phynjo::grammar::ast::Paren, inner)
+BOOST_FUSION_ADAPT_STRUCT(phynjo::grammar::ast::Postfix, primary, primes)
+BOOST_FUSION_ADAPT_STRUCT(phynjo::grammar::ast::Power, base, exponent)
+BOOST_FUSION_ADAPT_STRUCT(phynjo::grammar::ast::Unary, signs, power)
+BOOST_FUSION_ADAPT_STRUCT(phynjo::grammar::ast::ProductOp, op, operand)
+BOOST_FUSION_ADAPT_STRUCT(phynjo::grammar::ast::Product, first, rest)
+BOOST_FUSION_ADAPT_STRUCT(phynjo::grammar::ast::SumOp, op, operand)
+BOOST_FUSION_ADAPT_STRUCT(phynjo::grammar::ast::Expression, first, rest)

@@ -1,0 +1,201 @@
+// From the syntax tree to exact CAS expressions. Every failure is reported at the source
+// range of the node where it happened.
+#include "phynjo/cas/diff.hpp"
+#include "phynjo/cas/errors.hpp"
+#include "phynjo/cas/rational.hpp"
+#include "phynjo/grammar/expression.hpp"
+
+#include <array>
+
+namespace phynjo::grammar {
+
+namespace {
+
+using cas::Expr;
+using Opt = std::optional<Expr>;
+
+struct Builtin {
+    std::string_view name;
+    Expr (*apply)(Expr);
+};
+constexpr std::array<Builtin, 6> builtins{{{"sin", cas::sin},
+                                           {"cos", cas::cos},
+                                           {"tan", cas::tan},
+                                           {"exp", cas::exp},
+                                           {"log", cas::log},
+                                           {"sqrt", cas::sqrt}}};
+
+const Builtin* find_builtin(std::string_view name) {
+    for (const Builtin& b : builtins)
+        if (b.name == name) return &b;
+    return nullptr;
+}
+
+class Converter {
+public:
+    Converter(const Positions& positions, DiagnosticSink& sink, const ConvertOptions& options)
+        : positions_(positions), sink_(sink), options_(options) {}
+
+    Opt expression(const ast::Expression& e) {
+        std::vector<Expr> terms;
+        Opt first = product(e.first);
+        if (!first) return std::nullopt;
+        terms.push_back(*first);
+        for (const ast::SumOp& op : e.rest) {
+            Opt t = product(op.operand);
+            if (!t) return std::nullopt;
+            terms.push_back(op.op == '-' ? guarded(op, [&] { return -*t; }) : *t);
+            if (failed_) return std::nullopt;
+        }
+        return guarded(e, [&] { return cas::add(terms); });
+    }
+
+private:
+    const Positions& positions_;
+    DiagnosticSink& sink_;
+    const ConvertOptions& options_;
+    bool failed_ = false;
+
+    void error(const boost::spirit::x3::position_tagged& node, std::string message) {
+        const auto span = positions_.of(node);
+        sink_.error(span.offset, span.length, std::move(message));
+        failed_ = true;
+    }
+
+    /// Runs a CAS factory; a mathematical error is reported at `node`.
+    template <typename F>
+    Expr guarded(const boost::spirit::x3::position_tagged& node, F&& f) {
+        try {
+            return f();
+        } catch (const cas::Error& ex) {
+            error(node, ex.what());
+            return Expr(0);
+        }
+    }
+
+    Opt product(const ast::Product& p) {
+        Opt first = unary(p.first);
+        if (!first) return std::nullopt;
+        std::vector<Expr> factors{*first};
+        for (const ast::ProductOp& op : p.rest) {
+            Opt u = unary(op.operand);
+            if (!u) return std::nullopt;
+            if (op.op == '/') {
+                if (u->is_zero()) {
+                    error(op.operand, "division by zero");
+                    return std::nullopt;
+                }
+                factors.push_back(guarded(op.operand, [&] { return cas::pow(*u, Expr(-1)); }));
+            } else factors.push_back(*u);
+            if (failed_) return std::nullopt;
+        }
+        Expr r = guarded(p, [&] { return cas::mul(factors); });
+        return failed_ ? Opt{} : Opt{r};
+    }
+
+    Opt unary(const ast::Unary& u) {
+        Opt x = power(u.power);
+        if (!x) return std::nullopt;
+        if (u.signs.size() % 2 == 0) return x;
+        Expr r = guarded(u, [&] { return -*x; });
+        return failed_ ? Opt{} : Opt{r};
+    }
+
+    Opt power(const ast::Power& p) {
+        Opt b = postfix(p.base);
+        if (!b) return std::nullopt;
+        if (!p.exponent) return b;
+        Opt e = unary(p.exponent->get());
+        if (!e) return std::nullopt;
+        Expr r = guarded(p, [&] { return cas::pow(*b, *e); });
+        return failed_ ? Opt{} : Opt{r};
+    }
+
+    Opt postfix(const ast::Postfix& p) {
+        Opt x = primary(p.primary);
+        if (!x) return std::nullopt;
+        for (std::size_t k = 0; k < p.primes.size(); ++k) {
+            if (options_.derivative) {
+                x = options_.derivative(*x, p, sink_, positions_);
+                if (!x) {
+                    failed_ = true;
+                    return std::nullopt;
+                }
+            } else {
+                Expr r = guarded(p, [&] { return cas::time_derivative(*x); });
+                if (failed_) return std::nullopt;
+                x = r;
+            }
+        }
+        return x;
+    }
+
+    Opt primary(const ast::Primary& p) {
+        struct Visitor {
+            Converter& c;
+            Opt operator()(const ast::Number& n) const { return c.number(n); }
+            Opt operator()(const ast::Name& n) const { return c.name(n); }
+            Opt operator()(const ast::Call& call) const { return c.call(call); }
+            Opt operator()(const ast::Paren& paren) const { return c.expression(paren.inner.get()); }
+        };
+        return boost::apply_visitor(Visitor{*this}, p);
+    }
+
+    Opt number(const ast::Number& n) {
+        auto q = cas::parse_decimal(n.text);
+        if (!q) {
+            error(n, "number too large (at most 10000 significant digits and a decimal exponent within ±10000)");
+            return std::nullopt;
+        }
+        return cas::number(*q);
+    }
+
+    Opt name(const ast::Name& n) {
+        if (n.text == "pi") return cas::pi();
+        if (n.text == "t") return cas::time_symbol();
+        if (find_builtin(n.text)) {
+            error(n, "'" + n.text + "' is a function: write " + n.text + "(…)");
+            return std::nullopt;
+        }
+        if (!options_.resolve) return cas::symbol(n.text);
+        Opt r = options_.resolve(n.text);
+        if (!r) error(n, "unknown name '" + n.text + "'");
+        return r;
+    }
+
+    Opt call(const ast::Call& c) {
+        const Builtin* f = find_builtin(c.function.text);
+        if (!f) {
+            if (c.function.text == "pi" || c.function.text == "t" ||
+                (options_.resolve && options_.resolve(c.function.text)))
+                error(c.function, "'" + c.function.text + "' is not a function (missing '*'?)");
+            else if (!options_.resolve)
+                error(c.function, "unknown function '" + c.function.text +
+                                      "' (functions: sin, cos, tan, exp, log, sqrt; missing '*'?)");
+            else error(c.function, "unknown function '" + c.function.text + "'");
+            return std::nullopt;
+        }
+        Opt a = expression(c.arg.get());
+        if (!a) return std::nullopt;
+        Expr r = guarded(c, [&] { return f->apply(*a); });
+        return failed_ ? Opt{} : Opt{r};
+    }
+};
+
+} // namespace
+
+std::optional<cas::Expr> to_expr(const ast::Expression& tree, const Positions& positions, DiagnosticSink& sink,
+                                 const ConvertOptions& options) {
+    return Converter(positions, sink, options).expression(tree);
+}
+
+cas::Expr parse(std::string_view text, std::string_view source_name) {
+    DiagnosticSink sink(std::string(source_name), text);
+    Positions positions(text);
+    auto tree = parse_expression(text, positions, sink);
+    if (tree)
+        if (auto e = to_expr(*tree, positions, sink)) return *e;
+    throw ParseError(sink.format_all());
+}
+
+} // namespace phynjo::grammar
