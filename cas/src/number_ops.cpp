@@ -140,10 +140,11 @@ Expr num_pow(Expr b, Expr e) {
         const Expr num_base = make_number(mpq_class(bv.get_num()));
         const Expr den_base = make_number(mpq_class(bv.get_den()));
         std::vector<Expr> factors{kpart};
-        if (!num_base.is_one()) factors.push_back(pow_node(num_base, make_number(r)));
+        // integer bases: each either has an exact root or becomes a canonical Pow
+        if (!num_base.is_one()) factors.push_back(num_pow(num_base, make_number(r)));
         if (!den_base.is_one()) {
             factors.push_back(num_inv(den_base));
-            factors.push_back(pow_node(den_base, make_number(1 - r)));
+            factors.push_back(num_pow(den_base, make_number(1 - r)));
         }
         return mul(factors);
     }

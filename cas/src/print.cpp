@@ -253,6 +253,10 @@ private:
         for (std::uint32_t i = 0; i < x->nargs; ++i)
             order.push_back({Printer(Mode::Infix, nullptr).print(x.args()[i]).s, i});
         std::stable_sort(order.begin(), order.end());
+        // readability: a positive term leads (sqrt(x) - exp(y), not -exp(y) + sqrt(x))
+        auto positive = std::find_if(order.begin(), order.end(),
+                                     [&](auto& o) { return detail::num_sign(x->coefs[o.second]) > 0; });
+        if (positive != order.end()) std::rotate(order.begin(), positive, positive + 1);
         std::string s;
         bool first = true;
         auto emit = [&](Out o) {

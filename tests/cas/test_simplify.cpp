@@ -1,0 +1,90 @@
+// simplify, expand, substitution: results, idempotence, and preserved values.
+#include "expr_gen.hpp"
+#include "property.hpp"
+
+#include "phynjo/cas/cas.hpp"
+#include "phynjo/grammar/expression.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+using namespace phynjo::cas;
+using phynjo::grammar::parse;
+using phynjo::test::check_property;
+
+TEST_CASE("simplify applies sin^2 + cos^2 = 1 inside sums", "[cas][simplify]") {
+    CHECK(simplify(parse("sin(x)^2 + cos(x)^2")) == Expr(1));
+    CHECK(simplify(parse("(l*sin(x))^2 + (l*cos(x))^2")) == parse("l^2"));
+    CHECK(simplify(parse("3*sin(2*x)^2 + 3*cos(2*x)^2 + y")) == parse("3 + y"));
+    CHECK(simplify(parse("sin(x)^4 + sin(x)^2*cos(x)^2")) == parse("sin(x)^2"));
+    CHECK(simplify(parse("(a*cos(q)*q')^2 + (a*sin(q)*q')^2")) == parse("a^2*q'^2"));
+    CHECK(simplify(parse("(a+b)^2 - a^2 - 2*a*b - b^2")) == Expr(0));
+    CHECK(simplify(parse("sin(x)^2 + 2*cos(x)^2")) == parse("sin(x)^2 + 2*cos(x)^2"));
+    // the double pendulum's kinetic energy
+    const Expr T = parse(
+        "1/2*m1*((l1*cos(th1)*th1')^2 + (l1*sin(th1)*th1')^2) + "
+        "1/2*m2*((l1*cos(th1)*th1' + l2*cos(th2)*th2')^2 + (l1*sin(th1)*th1' + l2*sin(th2)*th2')^2)");
+    const Expr expected = parse("1/2*(m1+m2)*l1^2*th1'^2 + 1/2*m2*l2^2*th2'^2 + "
+                                "m2*l1*l2*th1'*th2'*(cos(th1)*cos(th2) + sin(th1)*sin(th2))");
+    CHECK(simplify(T - expected) == Expr(0));
+    CHECK(expand(T - expected) != Expr(0)); // it is the identity that closes the gap
+}
+
+TEST_CASE("expand", "[cas][simplify]") {
+    CHECK(expand(parse("(x+y)^2")) == parse("x^2 + 2*x*y + y^2"));
+    CHECK(expand(parse("(x+1)^3*(x-1)")) == parse("x^4 + 2*x^3 - 2*x - 1"));
+    CHECK(expand(parse("sin((a+b)*c)")) == parse("sin(a*c + b*c)"));
+    CHECK(expand(parse("(x+y)^(-2)")) == parse("(x+y)^(-2)"));
+    CHECK_THROWS_AS(expand(parse("(a+b+c+d+e)^200")), LimitError);
+}
+
+namespace {
+/// Value of e at a fixed point, or nothing where it is undefined.
+std::optional<long double> value_at(Expr e) {
+    Bindings<long double> at;
+    long double v = 0.31L;
+    for (Expr s : free_variables(e)) at[s] = (v += 0.17L);
+    try {
+        return evaluate_extended(e, at);
+    } catch (const EvaluationError&) {
+        return std::nullopt;
+    }
+}
+} // namespace
+
+TEST_CASE("simplify is idempotent and preserves values", "[cas][simplify]") {
+    check_property("simplify(simplify(e)) == simplify(e)", [] {
+        const Expr e = *phynjo::test::gen_expr(4);
+        const Expr s = simplify(e);
+        RC_ASSERT(simplify(s) == s);
+    }, {.cases = 1000});
+    check_property("simplify and expand keep the value", [] {
+        const Expr e = *phynjo::test::gen_expr(3);
+        const auto v = value_at(e);
+        RC_PRE(v.has_value() && std::fabs(*v) < 1e6L);
+        for (Expr r : {simplify(e), expand(e)}) {
+            const auto w = value_at(r);
+            RC_ASSERT(w.has_value());
+            RC_ASSERT(std::fabs(*w - *v) <= 1e-9L * (1 + std::fabs(*v)));
+        }
+    }, {.cases = 1000});
+}
+
+TEST_CASE("substitution and free symbols", "[cas][simplify]") {
+    const Expr x = symbol("x"), y = symbol("y");
+    CHECK(subs(parse("x^2 + y"), {{x, y + 1}}) == parse("(y+1)^2 + y"));
+    CHECK(subs(parse("sin(x)*x'"), {{velocity(x), Expr(3)}}) == parse("3*sin(x)"));
+    CHECK(subs(parse("x'"), {{x, parse("y^2")}}) == parse("2*y*y'"));
+    CHECK(subs(parse("sin(x+y) + x"), {{x + y, pi()}}) == x);
+    const auto fs = free_symbols(parse("m*x'^2 + sin(theta)*t"));
+    REQUIRE(fs.size() == 4);
+    CHECK(to_string(fs[0]) == "m");
+    CHECK(to_string(fs[1]) == "t");
+    CHECK(to_string(fs[2]) == "theta");
+    CHECK(to_string(fs[3]) == "x");
+    const auto fv = free_variables(parse("x + x' + x''"));
+    CHECK(fv.size() == 3);
+    CHECK(contains(parse("sin(x*y) + 1"), x * y));
+    CHECK_FALSE(contains(parse("sin(x*y) + 1"), parse("z")));
+}
