@@ -7,6 +7,7 @@
 #include "phynjo/cas/cas.hpp"
 #include "phynjo/grammar/expression.hpp"
 
+#include <algorithm>
 #include <cstring>
 #include <functional>
 #include <iostream>
@@ -32,7 +33,8 @@ commands:
   cpp EXPR                      C++ expression of EXPR (std::sin, x*x, correctly rounded literals)
   eval EXPR NAME=VALUE…         numeric value (VALUEs are constant expressions; NAME may be q')
   euler-lagrange Q1,Q2,… L      dL/dq', dL/dq, d/dt dL/dq' and the Euler-Lagrange expression
-                                d/dt(dL/dq') - dL/dq for each coordinate
+                                d/dt(dL/dq') - dL/dq for each coordinate (only the coordinates
+                                depend on time: (l*sin(q))' is l*cos(q)*q')
 
 EXPR (or L) may be '-': then one expression per line of standard input, one result line per
 input line (empty for a rejected input; its error goes to standard error).
@@ -139,7 +141,14 @@ int cmd_euler_lagrange(const std::string& coords_arg, const std::string& expr_ar
         if (comma == std::string::npos) break;
         start = comma + 1;
     }
-    return run(expr_arg, guarded([&](Expr L) {
+    return run(expr_arg, guarded([&](Expr L_in) {
+                   // Mechanics: only the coordinates depend on time; a parameter's p' is 0.
+                   std::unordered_map<Expr, Expr> constants;
+                   for (Expr v : cas::free_variables(L_in))
+                       if (cas::derivative_order(v) > 0 &&
+                           std::find(coords.begin(), coords.end(), cas::symbol(cas::symbol_name(v))) == coords.end())
+                           constants.emplace(v, Expr(0));
+                   const Expr L = cas::subs(L_in, constants);
                    std::string out;
                    for (Expr q : coords) {
                        const std::string n = cas::to_string(q);
