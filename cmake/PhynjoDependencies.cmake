@@ -6,3 +6,4 @@ if(NOT TARGET PkgConfig::GMPXX)
   pkg_check_modules(GMPXX REQUIRED IMPORTED_TARGET GLOBAL gmpxx gmp)
 endif()
 find_package(Boost 1.74 REQUIRED)   # header-only: Spirit X3
+find_package(Threads REQUIRED)

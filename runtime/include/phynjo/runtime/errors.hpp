@@ -1,0 +1,46 @@
+#pragma once
+/// \file
+/// Typed exceptions for API misuse, thrown when a workflow is built (never mid-run).
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace phynjo::runtime {
+
+class Error : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+/// A component label that is not registered.
+class UnknownComponent : public Error {
+public:
+    using Error::Error;
+};
+
+/// Two branches of a parallel composition write the same state, or one writes what the
+/// other reads. Names the shared entries (`field:component`) and the rules involved.
+class DomainOverlapError : public Error {
+public:
+    DomainOverlapError(std::string message, std::vector<std::string> shared)
+        : Error(std::move(message)), shared_(std::move(shared)) {}
+    /// The shared entries, as `field:component` (event flags: `component`).
+    [[nodiscard]] const std::vector<std::string>& shared() const noexcept { return shared_; }
+
+private:
+    std::vector<std::string> shared_;
+};
+
+/// A rule wrote outside the domain it declared (found by the checked interpreter mode).
+class DomainViolation : public Error {
+public:
+    using Error::Error;
+};
+
+/// A field name that the world does not have.
+class UnknownField : public Error {
+public:
+    using Error::Error;
+};
+
+} // namespace phynjo::runtime

@@ -1,0 +1,66 @@
+// A built workflow runs a step without any heap allocation: proven with a counting global
+// allocator (this test is its own executable so that the replacement is local to it).
+#include "phynjo/runtime/runtime.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <atomic>
+#include <cstdlib>
+#include <new>
+
+namespace {
+std::atomic<long> allocations{0};
+}
+
+void* operator new(std::size_t n) {
+    allocations.fetch_add(1, std::memory_order_relaxed);
+    if (void* p = std::malloc(n ? n : 1)) return p;
+    throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+
+using namespace phynjo::runtime;
+
+namespace {
+template <typename F>
+long count(F&& f) {
+    const long before = allocations.load();
+    f();
+    return allocations.load() - before;
+}
+} // namespace
+
+TEST_CASE("steady-state steps allocate nothing", "[runtime][allocation]") {
+    SECTION("1-D leapfrog with springs, gravity and drag") {
+        Registry r;
+        for (int i = 0; i < 10; ++i) r.add("b" + std::to_string(i));
+        World w = make_nstate(r);
+        const ComponentSet all = ComponentSet::range(0, 10);
+        Force1D f = Force1D::gravity(9.81, all) + Force1D::drag(0.1, all) + Force1D::spring(0, 1, 2.0, 1.0);
+        Stepper s(leapfrog_dkd(nstate_splitting(f, all, w.layout_ptr())));
+        s.step(w, 1e-3); // warm: per-thread scratch
+        CHECK(count([&] { s.run(w, 1e-3, 1000); }) == 0);
+    }
+    SECTION("N-body leapfrog, par over partitions, on 2 threads") {
+        Registry r;
+        for (int i = 0; i < 100; ++i) r.add("s" + std::to_string(i));
+        World w = make_particles(r, 2);
+        for (Index i = 0; i < w.size(); ++i) {
+            w.at(kX, i) = i;
+            w.at(kMass, i) = 1;
+        }
+        Executor ex(2);
+        Stepper s(nbody_leapfrog({1.0, 1e-3}, w.layout_ptr(), 2), &ex);
+        s.step(w, 1e-3);
+        CHECK(count([&] { s.run(w, 1e-3, 1000); }) == 0);
+    }
+    SECTION("RK4 workflow") {
+        Registry r;
+        r.add("m");
+        World w = make_nstate(r, {1.0}, rk4_fields());
+        Stepper s(rk4(Force1D::anchor(0, 0, 1), ComponentSet{0}, w.layout_ptr()));
+        s.step(w, 1e-3);
+        CHECK(count([&] { s.run(w, 1e-3, 1000); }) == 0);
+    }
+}
