@@ -27,7 +27,7 @@ demo: build
 	@scripts/demo $(BUILD)
 
 bench: deps
-	cmake -S . -B $(BUILD)-bench -DCMAKE_BUILD_TYPE=Release -DPHYNJO_BUILD_BENCH=ON -DPHYNJO_BUILD_TESTS=OFF $(CMAKE_ARGS)
+	cmake -S . -B $(BUILD)-bench -DCMAKE_BUILD_TYPE=Release -DPHYNJO_BUILD_BENCH=ON -DPHYNJO_BUILD_TESTS=OFF -DPHYNJO_NATIVE=ON $(CMAKE_ARGS)
 	cmake --build $(BUILD)-bench -j $(JOBS)
 	@bench/run-all $(BUILD)-bench
 

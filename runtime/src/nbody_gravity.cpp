@@ -138,6 +138,29 @@ NumericRule kick3d(double c, const std::shared_ptr<const Layout>& layout) {
     return r;
 }
 
+State3D state3d(const World& w) {
+    return State3D{w.field(kX), w.field(kY), w.field(kZ), w.field(kVX), w.field(kVY), w.field(kVZ), w.field(kMass)};
+}
+
+NumericRule kick3d(const Force3D& force, double c, const std::shared_ptr<const Layout>& layout) {
+    const std::size_t n = layout->components.size();
+    const ComponentSet all = ComponentSet::range(0, static_cast<Index>(n));
+    NumericRule r{"kick3d_force(" + std::to_string(c) + ")", Domain::of(*layout, {"vx", "vy", "vz"}, all),
+                  Domain::of(*layout, {"x", "y", "z", "m"}, all), nullptr, layout};
+    r.step = [=](double dt, World& w) {
+        thread_local std::vector<double> F;
+        F.assign(3 * n, 0.0);
+        const State3D s = state3d(w);
+        for (Index i = 0; i < n; ++i) { // forces from the state at the start of the kick
+            const auto f = force(s, i).first;
+            for (std::size_t k = 0; k < 3; ++k) F[3 * i + k] = f[k];
+        }
+        for (Index i = 0; i < n; ++i)
+            for (std::size_t k = 0; k < 3; ++k) w.at(static_cast<FieldId>(kVX + k), i) += c * dt * F[3 * i + k] / w.at(kMass, i);
+    };
+    return r;
+}
+
 NumericRule drift3d(double c, const std::shared_ptr<const Layout>& layout) {
     const std::size_t n = layout->components.size();
     const ComponentSet all = ComponentSet::range(0, static_cast<Index>(n));

@@ -34,6 +34,13 @@ NumericRule kick3d(double c, const std::shared_ptr<const Layout>& layout);
 /// r ← r + c·dt·v.
 NumericRule drift3d(double c, const std::shared_ptr<const Layout>& layout);
 
+/// v_c ← v_c + c·dt·F_c/m_c for every component, F from a Force3D (its torque is for rigid
+/// bodies and ignored on particles). Domain: the velocities.
+NumericRule kick3d(const Force3D& force, double c, const std::shared_ptr<const Layout>& layout);
+
+/// The State3D view of a particle world.
+State3D state3d(const World& particles);
+
 /// Leapfrog DKD for N-body: drift(½) · accelerations · kick(1) · drift(½). One force
 /// evaluation per step. Order 2, symplectic.
 NumericWorkflow nbody_leapfrog(const NBodyGravity& g, const std::shared_ptr<const Layout>& layout, int partitions = 1);
