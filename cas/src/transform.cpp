@@ -224,7 +224,7 @@ Expr subs(Expr e, const std::unordered_map<Expr, Expr>& replacements) {
 
 namespace {
 template <typename Keep>
-std::vector<Expr> collect_atoms(Expr e, Keep&& keep) {
+std::vector<Expr> collect_atoms(Expr e, Keep&& keep, bool into_derivatives) {
     std::unordered_set<const Node*> seen;
     std::vector<Expr> stack{e}, out;
     while (!stack.empty()) {
@@ -232,6 +232,7 @@ std::vector<Expr> collect_atoms(Expr e, Keep&& keep) {
         stack.pop_back();
         if (!seen.insert(x.get()).second) continue;
         if (keep(x)) out.push_back(x);
+        if (x.kind() == Kind::TimeDerivative && !into_derivatives) continue;
         for (Expr c : x.args()) stack.push_back(c);
     }
     std::sort(out.begin(), out.end(), [](Expr a, Expr b) {
@@ -243,10 +244,10 @@ std::vector<Expr> collect_atoms(Expr e, Keep&& keep) {
 } // namespace
 
 std::vector<Expr> free_symbols(Expr e) {
-    return collect_atoms(e, [](Expr x) { return x.kind() == Kind::Symbol; });
+    return collect_atoms(e, [](Expr x) { return x.kind() == Kind::Symbol; }, true);
 }
 std::vector<Expr> free_variables(Expr e) {
-    return collect_atoms(e, [](Expr x) { return x.is_atom_variable(); });
+    return collect_atoms(e, [](Expr x) { return x.is_atom_variable(); }, false);
 }
 
 bool contains(Expr e, Expr x) {

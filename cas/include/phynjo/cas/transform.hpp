@@ -28,7 +28,8 @@ Expr subs(Expr e, const std::unordered_map<Expr, Expr>& replacements);
 
 /// The symbols in `e` (a TimeDerivative `x'` contributes `x`), sorted by name.
 std::vector<Expr> free_symbols(Expr e);
-/// The variables in `e`: symbols and time derivatives, sorted by name then order.
+/// The variables in `e`: symbols and time derivatives (x' alone does not make x a variable
+/// of e), sorted by name then order.
 std::vector<Expr> free_variables(Expr e);
 /// True if `e` contains `x` (structurally).
 bool contains(Expr e, Expr x);

@@ -80,4 +80,46 @@ struct Expression : x3::position_tagged {
     std::vector<SumOp> rest;
 };
 
+// ---- .lag statements (lag-format.md, *Statements*) -------------------------------------
+
+/// `NAME = EXPR` in `parameters`, or `Q = EXPR` / `Q' = EXPR` in `initial`.
+struct Binding : x3::position_tagged {
+    Name name;
+    std::string primes;
+    Expression value;
+};
+
+struct ModelStmt : x3::position_tagged {
+    Name name;
+};
+struct CoordinatesStmt : x3::position_tagged {
+    std::vector<Name> names;
+};
+struct ParametersStmt : x3::position_tagged {
+    std::vector<Binding> items;
+};
+struct LetStmt : x3::position_tagged {
+    Name name;
+    Expression value;
+};
+struct LagrangianStmt : x3::position_tagged {
+    Expression value;
+};
+struct DissipationStmt : x3::position_tagged {
+    Expression value;
+};
+struct ForceStmt : x3::position_tagged {
+    Name coordinate;
+    Expression value;
+};
+struct InitialStmt : x3::position_tagged {
+    std::vector<Binding> items;
+};
+
+struct Statement : x3::variant<ModelStmt, CoordinatesStmt, ParametersStmt, LetStmt, LagrangianStmt, DissipationStmt,
+                               ForceStmt, InitialStmt> {
+    using base_type::base_type;
+    using base_type::operator=;
+};
+
 } // namespace phynjo::grammar::ast

@@ -44,3 +44,26 @@ public:
 };
 
 } // namespace phynjo::runtime
+
+namespace phynjo::runtime {
+
+/// The mass matrix of a generated model is not positive definite at the given state, so
+/// M q'' = f cannot be solved (raised by `accelerations`, never a silent NaN).
+class SingularMassMatrix : public Error {
+public:
+    using Error::Error;
+};
+
+/// A computation produced NaN or infinity from finite inputs.
+class NonFiniteResult : public Error {
+public:
+    using Error::Error;
+};
+
+/// An implicit step did not converge.
+class ConvergenceError : public Error {
+public:
+    using Error::Error;
+};
+
+} // namespace phynjo::runtime

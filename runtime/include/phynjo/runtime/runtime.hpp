@@ -7,6 +7,7 @@
 #include "phynjo/runtime/executor.hpp"
 #include "phynjo/runtime/forces.hpp"
 #include "phynjo/runtime/integrators.hpp"
+#include "phynjo/runtime/lagrangian.hpp"
 #include "phynjo/runtime/literal.hpp"
 #include "phynjo/runtime/nbody.hpp"
 #include "phynjo/runtime/numeric.hpp"

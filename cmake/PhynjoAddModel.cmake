@@ -1,0 +1,42 @@
+include_guard(GLOBAL)
+# phynjo_add_model(TARGET name MODEL file.lag [MAIN])
+#
+# Runs phynjo-lagc at build time (again whenever the .lag file or the compiler changes) and
+# makes a target whose include path holds the generated header, so that `#include
+# "name.hpp"` works: a static library, or with MAIN an executable whose main() simulates the
+# model (see `name --help`). The generated files are named after TARGET. Works in the phynjo
+# build tree (add_subdirectory) and after find_package(phynjo CONFIG).
+function(phynjo_add_model)
+  cmake_parse_arguments(PHYNJO "MAIN" "TARGET;MODEL" "" ${ARGN})
+  if(NOT PHYNJO_TARGET OR NOT PHYNJO_MODEL)
+    message(FATAL_ERROR "phynjo_add_model: TARGET and MODEL are required")
+  endif()
+  if(NOT TARGET phynjo::phynjo-lagc)
+    message(FATAL_ERROR "phynjo_add_model: phynjo::phynjo-lagc not found (find_package(phynjo CONFIG) first)")
+  endif()
+  get_filename_component(model "${PHYNJO_MODEL}" ABSOLUTE BASE_DIR "${CMAKE_CURRENT_SOURCE_DIR}")
+  set(dir "${CMAKE_CURRENT_BINARY_DIR}/phynjo_generated/${PHYNJO_TARGET}")
+  set(src "${dir}/${PHYNJO_TARGET}.cpp")
+  set(hdr "${dir}/${PHYNJO_TARGET}.hpp")
+  set(flags)
+  if(PHYNJO_MAIN)
+    set(flags --main)
+  endif()
+  file(MAKE_DIRECTORY "${dir}")
+  add_custom_command(
+    OUTPUT "${src}" "${hdr}"
+    COMMAND $<TARGET_FILE:phynjo::phynjo-lagc> "${model}" -o "${src}" ${flags}
+    DEPENDS "${model}" $<TARGET_FILE:phynjo::phynjo-lagc>
+    COMMENT "phynjo-lagc ${PHYNJO_MODEL} -> ${PHYNJO_TARGET}.cpp"
+    VERBATIM)
+  if(PHYNJO_MAIN)
+    add_executable(${PHYNJO_TARGET} "${src}" "${hdr}")
+  else()
+    add_library(${PHYNJO_TARGET} STATIC "${src}" "${hdr}")
+  endif()
+  target_include_directories(${PHYNJO_TARGET} PUBLIC "${dir}")
+  target_link_libraries(${PHYNJO_TARGET} PUBLIC phynjo::runtime)
+  target_compile_features(${PHYNJO_TARGET} PUBLIC cxx_std_20)
+  # the contract: the generated pair compiles warning-free
+  target_compile_options(${PHYNJO_TARGET} PRIVATE -Wall -Wextra -Werror)
+endfunction()

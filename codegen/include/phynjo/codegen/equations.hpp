@@ -1,0 +1,32 @@
+#pragma once
+/// \file
+/// The equations of motion of a model, derived exactly (lag-format.md, *Meaning*):
+///   d/dt(∂L/∂q_i') − ∂L/∂q_i = Q_i − ∂R/∂q_i'   brought to   M(q, t)·q'' = f(q, q', t)
+/// with M_ij = ∂²L/∂q_i'∂q_j' and, expanding d/dt(∂L/∂q_i') = Σ_j M_ij q_j'' + Σ_j
+/// (∂p_i/∂q_j) q_j' + ∂p_i/∂t,
+///   f_i = ∂L/∂q_i + Q_i − ∂R/∂q_i' − Σ_j (∂p_i/∂q_j) q_j' − ∂p_i/∂t.
+/// Also p_i = ∂L/∂q_i' and E = Σ_i q_i' p_i − L.
+#include "phynjo/codegen/model.hpp"
+#include "phynjo/grammar/diagnostics.hpp"
+
+#include <optional>
+
+namespace phynjo::codegen {
+
+struct EquationsOfMotion {
+    std::size_t dof = 0;
+    std::vector<cas::Expr> mass_matrix; ///< row-major dof×dof, symmetric
+    std::vector<cas::Expr> forcing;     ///< f
+    std::vector<cas::Expr> momenta;     ///< p
+    cas::Expr energy;                   ///< E
+    /// ∂L/∂q_i + Q_i − ∂R/∂q_i': the right side of p_i' in canonical form (for integrators
+    /// that work with (q, p)).
+    std::vector<cas::Expr> generalized_forces;
+};
+
+/// Derives the equations of motion. Reports, at the coordinate, a mass matrix that is
+/// singular for every q, t and parameter values (for example a coordinate whose velocity
+/// does not appear in L) and returns nothing then.
+std::optional<EquationsOfMotion> derive(const Model& model, grammar::DiagnosticSink& sink);
+
+} // namespace phynjo::codegen

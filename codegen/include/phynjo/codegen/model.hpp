@@ -1,0 +1,47 @@
+#pragma once
+/// \file
+/// A checked model: what a .lag file means, as exact expressions.
+#include "phynjo/cas/expr.hpp"
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace phynjo::codegen {
+
+/// Where something was written (byte offset and length in the model file).
+struct SourceSpan {
+    std::size_t offset = 0;
+    std::size_t length = 1;
+};
+
+struct Coordinate {
+    std::string name;
+    cas::Expr symbol;
+    SourceSpan where;
+};
+
+struct Parameter {
+    std::string name;
+    cas::Expr symbol;
+    cas::Expr value;          ///< exact constant (numbers, pi, functions of them)
+    double default_value = 0; ///< the value correctly rounded to double
+    SourceSpan where;
+};
+
+struct Model {
+    std::string name; ///< C++ namespace of the generated code
+    std::string source_name;
+    std::vector<Coordinate> coordinates;
+    std::vector<Parameter> parameters;
+    cas::Expr lagrangian;           ///< L(q, q', t), every `let` substituted
+    cas::Expr dissipation;          ///< R(q, q', t), 0 if absent
+    std::vector<cas::Expr> forces;  ///< Q_i per coordinate, 0 if absent
+    std::vector<cas::Expr> initial_q, initial_qdot; ///< in terms of the parameters; 0 if absent
+    SourceSpan lagrangian_where;
+
+    [[nodiscard]] std::size_t dof() const noexcept { return coordinates.size(); }
+    [[nodiscard]] std::vector<cas::Expr> coordinate_symbols() const;
+};
+
+} // namespace phynjo::codegen

@@ -1,0 +1,122 @@
+#include "phynjo/codegen/equations.hpp"
+
+#include "phynjo/cas/cas.hpp"
+
+#include <cmath>
+#include <random>
+
+namespace phynjo::codegen {
+
+namespace {
+
+using cas::Expr;
+
+/// simplify() when the expression is small enough for expansion to pay off; the canonical
+/// form otherwise (expansion of large sums can blow up).
+Expr tidy(Expr e) {
+    if (cas::tree_size(e) > 4000) return e;
+    return cas::simplify(e);
+}
+
+/// The first coordinate whose column of M is linearly dependent on the earlier ones at
+/// every one of a few random points (random q, q', t and parameter values), or nothing.
+std::optional<std::size_t> identically_singular(const Model& model, const std::vector<Expr>& M) {
+    const std::size_t n = model.dof();
+    std::mt19937_64 rng(12345);
+    std::uniform_real_distribution<double> coord(-1.3, 1.3), positive(0.5, 2.0);
+    std::optional<std::size_t> worst;
+    for (int trial = 0; trial < 3; ++trial) {
+        cas::Bindings<double> at;
+        for (const auto& c : model.coordinates) {
+            at[c.symbol] = coord(rng);
+            at[cas::velocity(c.symbol)] = coord(rng);
+        }
+        for (const auto& p : model.parameters) at[p.symbol] = positive(rng);
+        at[cas::time_symbol()] = positive(rng);
+        std::vector<double> A(n * n);
+        try {
+            for (std::size_t k = 0; k < n * n; ++k) A[k] = cas::evaluate(M[k], at);
+        } catch (const cas::Error&) {
+            return std::nullopt; // cannot tell here; the runtime check reports it
+        }
+        double scale = 0;
+        for (double v : A) scale = std::max(scale, std::fabs(v));
+        // Gaussian elimination over columns in coordinate order, row pivoting.
+        std::vector<bool> used(n, false);
+        std::optional<std::size_t> dependent;
+        for (std::size_t col = 0; col < n && !dependent; ++col) {
+            std::size_t best = n;
+            double best_v = 0;
+            for (std::size_t r = 0; r < n; ++r)
+                if (!used[r] && std::fabs(A[r * n + col]) > best_v) {
+                    best_v = std::fabs(A[r * n + col]);
+                    best = r;
+                }
+            if (best == n || best_v <= 1e-10 * std::max(scale, 1e-300)) {
+                dependent = col;
+                break;
+            }
+            used[best] = true;
+            for (std::size_t r = 0; r < n; ++r) {
+                if (used[r]) continue;
+                const double factor = A[r * n + col] / A[best * n + col];
+                for (std::size_t c = col; c < n; ++c) A[r * n + c] -= factor * A[best * n + c];
+            }
+        }
+        if (!dependent) return std::nullopt; // regular at this point: not identically singular
+        worst = dependent;
+    }
+    return worst;
+}
+
+} // namespace
+
+std::optional<EquationsOfMotion> derive(const Model& model, grammar::DiagnosticSink& sink) {
+    const std::size_t n = model.dof();
+    const auto q = model.coordinate_symbols();
+    std::vector<Expr> qd(n);
+    for (std::size_t i = 0; i < n; ++i) qd[i] = cas::velocity(q[i]);
+    const Expr L = model.lagrangian, t = cas::time_symbol();
+
+    EquationsOfMotion eom;
+    eom.dof = n;
+    eom.momenta.resize(n);
+    eom.mass_matrix.resize(n * n);
+    eom.forcing.resize(n);
+    eom.generalized_forces.resize(n);
+    std::vector<Expr> raw_p(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        raw_p[i] = cas::diff(L, qd[i]);
+        eom.momenta[i] = tidy(raw_p[i]);
+    }
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t j = i; j < n; ++j) {
+            const Expr m = tidy(cas::diff(raw_p[i], qd[j]));
+            eom.mass_matrix[i * n + j] = eom.mass_matrix[j * n + i] = m;
+        }
+    if (auto bad = identically_singular(model, eom.mass_matrix)) {
+        const Coordinate& c = model.coordinates[*bad];
+        const bool absent = !cas::contains(L, qd[*bad]);
+        sink.error(c.where.offset, c.where.length,
+                   "the mass matrix is singular for every state: the equations of motion cannot be solved for " + c.name +
+                       "''" + (absent ? " (" + c.name + "' does not appear in the Lagrangian)" : ""));
+        return std::nullopt;
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+        std::vector<Expr> terms{cas::diff(L, q[i]), model.forces[i], -cas::diff(model.dissipation, qd[i])};
+        eom.generalized_forces[i] = tidy(cas::add(terms));
+        for (std::size_t j = 0; j < n; ++j) {
+            const Expr d = cas::diff(raw_p[i], q[j]);
+            if (!d.is_zero()) terms.push_back(-(d * qd[j]));
+        }
+        terms.push_back(-cas::diff(raw_p[i], t));
+        eom.forcing[i] = tidy(cas::add(terms));
+    }
+    std::vector<Expr> e_terms;
+    for (std::size_t i = 0; i < n; ++i) e_terms.push_back(qd[i] * raw_p[i]);
+    e_terms.push_back(-L);
+    eom.energy = tidy(cas::add(e_terms));
+    return eom;
+}
+
+} // namespace phynjo::codegen

@@ -1,0 +1,324 @@
+// The front end: scope, `'`, constants, statement counts.
+#include "phynjo/codegen/frontend.hpp"
+
+#include "phynjo/cas/cas.hpp"
+
+#include <algorithm>
+#include <array>
+#include <map>
+
+namespace phynjo::codegen {
+
+namespace {
+
+using cas::Expr;
+using grammar::ast::Statement;
+
+constexpr std::string_view cpp_keywords[] = {
+    "alignas", "alignof", "and", "and_eq", "asm", "auto", "bitand", "bitor", "bool", "break", "case", "catch", "char",
+    "char8_t", "char16_t", "char32_t", "class", "compl", "concept", "const", "consteval", "constexpr", "constinit",
+    "const_cast", "continue", "co_await", "co_return", "co_yield", "decltype", "default", "delete", "do", "double",
+    "dynamic_cast", "else", "enum", "explicit", "export", "extern", "false", "float", "for", "friend", "goto", "if",
+    "inline", "int", "long", "mutable", "namespace", "new", "noexcept", "not", "not_eq", "nullptr", "operator", "or",
+    "or_eq", "private", "protected", "public", "register", "reinterpret_cast", "requires", "return", "short", "signed",
+    "sizeof", "static", "static_assert", "static_cast", "struct", "switch", "template", "this", "thread_local", "throw",
+    "true", "try", "typedef", "typeid", "typename", "union", "unsigned", "using", "virtual", "void", "volatile",
+    "wchar_t", "while", "xor", "xor_eq", "std", "phynjo", "final", "override", "import", "module"};
+
+enum class NameKind { Coordinate, Parameter, Let };
+struct Declared {
+    NameKind kind;
+    Expr value; // symbol (coordinate, parameter) or the let's value
+    SourceSpan where;
+    std::size_t index = 0;
+};
+
+class Analyzer {
+public:
+    Analyzer(const grammar::Positions& positions, grammar::DiagnosticSink& sink) : pos_(positions), sink_(sink) {}
+
+    std::optional<Model> run(const grammar::ParsedModel& parsed, std::string_view default_name) {
+        model_.name = std::string(default_name);
+        model_.dissipation = Expr(0);
+        for (const Statement& st : parsed.statements) boost::apply_visitor([this](const auto& s) { visit(s); }, st);
+        if (!coordinates_seen_) error({0, 1}, "the model has no 'coordinates' statement");
+        if (!lagrangian_seen_) error({0, 1}, "the model has no 'lagrangian' statement");
+        if (sink_.error_count() > 0) return std::nullopt;
+        const std::size_t n = model_.dof();
+        model_.forces.resize(n, Expr(0));
+        model_.initial_q.resize(n, Expr(0));
+        model_.initial_qdot.resize(n, Expr(0));
+        for (std::size_t i = 0; i < n; ++i) {
+            if (!forces_[i].is_null()) model_.forces[i] = forces_[i];
+            if (!init_q_[i].is_null()) model_.initial_q[i] = init_q_[i];
+            if (!init_qd_[i].is_null()) model_.initial_qdot[i] = init_qd_[i];
+        }
+        return model_;
+    }
+
+private:
+    const grammar::Positions& pos_;
+    grammar::DiagnosticSink& sink_;
+    Model model_;
+    std::map<std::string, Declared, std::less<>> scope_;
+    bool coordinates_seen_ = false, lagrangian_seen_ = false, dissipation_seen_ = false, model_seen_ = false;
+    SourceSpan coordinates_at_, lagrangian_at_, dissipation_at_, model_at_;
+    std::vector<Expr> forces_, init_q_, init_qd_;
+
+    SourceSpan span(const boost::spirit::x3::position_tagged& node) const {
+        const auto s = pos_.of(node);
+        return {s.offset, s.length};
+    }
+    void error(SourceSpan at, std::string message) { sink_.error(at.offset, at.length, std::move(message)); }
+    void note(SourceSpan at, std::string message) { sink_.note(at.offset, at.length, std::move(message)); }
+
+    /// A statement that may appear once: reports a second one.
+    bool once(bool& seen, SourceSpan& first, SourceSpan here, const char* what) {
+        if (seen) {
+            error(here, std::string("a second '") + what + "' statement");
+            note(first, std::string("the first '") + what + "' statement is here");
+            return false;
+        }
+        seen = true;
+        first = here;
+        return true;
+    }
+
+    bool declare(const grammar::ast::Name& name, NameKind kind, Expr value) {
+        const SourceSpan at = span(name);
+        if (grammar::is_keyword(name.text)) {
+            error(at, "'" + name.text + "' is a keyword and cannot be declared");
+            return false;
+        }
+        if (grammar::is_builtin(name.text)) {
+            error(at, "'" + name.text + "' is a built-in name and cannot be declared");
+            return false;
+        }
+        if (auto it = scope_.find(name.text); it != scope_.end()) {
+            error(at, "'" + name.text + "' is already declared");
+            note(it->second.where, "the first declaration of '" + name.text + "' is here");
+            return false;
+        }
+        std::size_t index = 0;
+        if (kind == NameKind::Coordinate) index = model_.coordinates.size();
+        if (kind == NameKind::Parameter) index = model_.parameters.size();
+        scope_.emplace(name.text, Declared{kind, value, at, index});
+        return true;
+    }
+
+    bool is_coordinate(Expr e) const {
+        return e.kind() == cas::Kind::Symbol &&
+               std::any_of(model_.coordinates.begin(), model_.coordinates.end(), [&](const auto& c) { return c.symbol == e; });
+    }
+
+    /// An expression in the current scope, with the spec's meaning of `'`.
+    std::optional<Expr> expression(const grammar::ast::Expression& tree) {
+        grammar::ConvertOptions options;
+        options.resolve = [this](std::string_view name) -> std::optional<Expr> {
+            if (auto it = scope_.find(name); it != scope_.end()) return it->second.value;
+            return std::nullopt;
+        };
+        const auto coords = model_.coordinate_symbols();
+        options.derivative = [this, coords](Expr operand, const grammar::ast::Postfix& node, grammar::DiagnosticSink& sink,
+                                            const grammar::Positions& positions) -> std::optional<Expr> {
+            const auto s = positions.of(node);
+            if (is_coordinate(operand)) return cas::velocity(operand);
+            if (operand.kind() == cas::Kind::TimeDerivative) {
+                sink.error(s.offset, s.length,
+                           "second derivative: " + std::string(cas::symbol_name(operand)) +
+                               "'' is not allowed in a model (the equations of motion are derived from L)");
+                return std::nullopt;
+            }
+            for (Expr v : cas::free_variables(operand))
+                if (v.kind() == cas::Kind::TimeDerivative) {
+                    sink.error(s.offset, s.length,
+                               "second derivative: ' applied to an expression that contains the velocity " +
+                                   cas::to_string(v));
+                    return std::nullopt;
+                }
+            try {
+                return cas::total_time_derivative(operand, coords);
+            } catch (const cas::Error& e) {
+                sink.error(s.offset, s.length, e.what());
+                return std::nullopt;
+            }
+        };
+        return grammar::to_expr(tree, pos_, sink_, options);
+    }
+
+    /// A constant: no coordinate, velocity or t. Parameters are allowed when `allow_parameters`.
+    bool constant(Expr e, const grammar::ast::Expression& tree, const std::string& what, bool allow_parameters) {
+        for (Expr v : cas::free_variables(e)) {
+            const bool is_param = v.kind() == cas::Kind::Symbol &&
+                                  std::any_of(model_.parameters.begin(), model_.parameters.end(),
+                                              [&](const Parameter& p) { return p.symbol == v; });
+            if (is_param && allow_parameters) continue;
+            std::string why = v == cas::time_symbol()        ? "time t"
+                              : v.kind() == cas::Kind::TimeDerivative ? "the velocity " + cas::to_string(v)
+                              : is_param                      ? "the parameter " + cas::to_string(v)
+                                                              : "the coordinate " + cas::to_string(v);
+            error(span(tree), what + " is not constant: it depends on " + why);
+            return false;
+        }
+        return true;
+    }
+
+    void visit(const grammar::ast::ModelStmt& s) {
+        if (!once(model_seen_, model_at_, span(s), "model")) return;
+        if (grammar::is_keyword(s.name.text) || grammar::is_builtin(s.name.text) || is_cpp_keyword(s.name.text)) {
+            error(span(s.name), "'" + s.name.text + "' cannot name a model (it is a reserved word)");
+            return;
+        }
+        model_.name = s.name.text;
+    }
+
+    void visit(const grammar::ast::CoordinatesStmt& s) {
+        if (!once(coordinates_seen_, coordinates_at_, span(s), "coordinates")) return;
+        for (const auto& n : s.names) {
+            const Expr sym = cas::symbol(n.text);
+            if (declare(n, NameKind::Coordinate, sym)) model_.coordinates.push_back({n.text, sym, span(n)});
+        }
+        forces_.assign(model_.coordinates.size(), Expr{});
+        init_q_.assign(model_.coordinates.size(), Expr{});
+        init_qd_.assign(model_.coordinates.size(), Expr{});
+    }
+
+    void visit(const grammar::ast::ParametersStmt& s) {
+        for (const auto& b : s.items) {
+            if (!b.primes.empty()) {
+                error(span(b.name), "a parameter name cannot carry ' (parameters are constants)");
+                continue;
+            }
+            auto v = expression(b.value);
+            if (!v) continue;
+            if (!constant(*v, b.value, "the value of parameter '" + b.name.text + "'", true)) continue;
+            // exact value: earlier parameters replaced by their values
+            std::unordered_map<Expr, Expr> values;
+            for (const Parameter& p : model_.parameters) values.emplace(p.symbol, p.value);
+            Expr exact;
+            double dflt = 0;
+            try {
+                exact = cas::subs(*v, values);
+                dflt = cas::evaluate(exact, {});
+            } catch (const cas::Error& e) {
+                error(span(b.value), "the value of parameter '" + b.name.text + "' is not a finite real number");
+                continue;
+            }
+            if (is_cpp_keyword(b.name.text)) {
+                error(span(b.name), "'" + b.name.text +
+                                        "' cannot name a parameter: it is a C++ keyword, and parameters become fields of "
+                                        "the generated Parameters struct");
+                continue;
+            }
+            const Expr sym = cas::symbol(b.name.text);
+            if (declare(b.name, NameKind::Parameter, sym))
+                model_.parameters.push_back({b.name.text, sym, exact, dflt, span(b.name)});
+        }
+    }
+
+    void visit(const grammar::ast::LetStmt& s) {
+        auto v = expression(s.value);
+        if (!v) {
+            // declare anyway (as unknown-valued) to avoid cascades of "unknown name"
+            declare(s.name, NameKind::Let, cas::symbol(s.name.text));
+            return;
+        }
+        declare(s.name, NameKind::Let, *v);
+    }
+
+    void visit(const grammar::ast::LagrangianStmt& s) {
+        if (!once(lagrangian_seen_, lagrangian_at_, span(s), "lagrangian")) return;
+        model_.lagrangian_where = span(s);
+        if (auto v = expression(s.value)) model_.lagrangian = *v;
+    }
+
+    void visit(const grammar::ast::DissipationStmt& s) {
+        if (!once(dissipation_seen_, dissipation_at_, span(s), "dissipation")) return;
+        if (auto v = expression(s.value)) model_.dissipation = *v;
+    }
+
+    /// The index of coordinate `name`, or nothing after reporting why not.
+    std::optional<std::size_t> coordinate_index(const grammar::ast::Name& name, const char* context) {
+        auto it = scope_.find(name.text);
+        if (it == scope_.end()) {
+            error(span(name), "unknown name '" + name.text + "'");
+            return std::nullopt;
+        }
+        if (it->second.kind != NameKind::Coordinate) {
+            error(span(name), std::string(context) + " '" + name.text + "', which is not a coordinate");
+            return std::nullopt;
+        }
+        return it->second.index;
+    }
+
+    void visit(const grammar::ast::ForceStmt& s) {
+        auto i = coordinate_index(s.coordinate, "force on");
+        auto v = expression(s.value);
+        if (!i || !v) return;
+        if (!forces_[*i].is_null()) {
+            error(span(s.coordinate), "a second force on '" + s.coordinate.text + "'");
+            return;
+        }
+        forces_[*i] = *v;
+    }
+
+    void visit(const grammar::ast::InitialStmt& s) {
+        for (const auto& b : s.items) {
+            auto i = coordinate_index(b.name, "initial value of");
+            auto v = expression(b.value);
+            if (!i || !v) continue;
+            if (b.primes.size() > 1) {
+                error(span(b.name), "an initial value is given for a coordinate (" + b.name.text + ") or its velocity (" +
+                                        b.name.text + "'), not for higher derivatives");
+                continue;
+            }
+            const std::string what = "the initial value of " + b.name.text + b.primes;
+            if (!constant(*v, b.value, what, true)) continue;
+            auto& slot = b.primes.empty() ? init_q_[*i] : init_qd_[*i];
+            if (!slot.is_null()) {
+                error(span(b.name), "a second initial value for " + b.name.text + b.primes);
+                continue;
+            }
+            slot = *v;
+        }
+    }
+};
+
+} // namespace
+
+bool is_cpp_keyword(std::string_view name) {
+    return std::find(std::begin(cpp_keywords), std::end(cpp_keywords), name) != std::end(cpp_keywords);
+}
+
+std::string model_name_from_path(std::string_view path) {
+    std::string_view stem = path;
+    if (auto slash = stem.find_last_of('/'); slash != std::string_view::npos) stem = stem.substr(slash + 1);
+    if (auto dot = stem.rfind('.'); dot != std::string_view::npos && dot > 0) stem = stem.substr(0, dot);
+    std::string out;
+    for (char c : stem) out += (std::isalnum(static_cast<unsigned char>(c)) || c == '_') ? c : '_';
+    if (out.empty() || std::isdigit(static_cast<unsigned char>(out[0]))) out = "model_" + out;
+    if (is_cpp_keyword(out) || grammar::is_keyword(out) || grammar::is_builtin(out)) out += "_model";
+    return out;
+}
+
+std::optional<Model> analyze(const grammar::ParsedModel& parsed, const grammar::Positions& positions,
+                             grammar::DiagnosticSink& sink, std::string_view default_name) {
+    Analyzer a(positions, sink);
+    auto m = a.run(parsed, default_name);
+    if (m) m->source_name = sink.source_name();
+    return m;
+}
+
+std::optional<Model> read_model(std::string_view text, std::string_view source_name, grammar::DiagnosticSink& sink) {
+    if (text.find_first_not_of(" \t\r\n") == std::string_view::npos) {
+        sink.error(0, 1, "the model file is empty");
+        return std::nullopt;
+    }
+    grammar::Positions positions(text);
+    const auto parsed = grammar::parse_model(text, positions, sink);
+    auto m = analyze(parsed, positions, sink, model_name_from_path(source_name));
+    if (sink.error_count() > 0) return std::nullopt;
+    return m;
+}
+
+} // namespace phynjo::codegen

@@ -1,0 +1,33 @@
+#pragma once
+/// \file
+/// Parsing `.lag` model files (lag-format.md) into position-tagged statements.
+#include "phynjo/grammar/ast.hpp"
+#include "phynjo/grammar/diagnostics.hpp"
+#include "phynjo/grammar/expression.hpp"
+
+#include <vector>
+
+namespace phynjo::grammar {
+
+/// Limits for whole files, on top of the expression limits.
+struct FileLimits {
+    /// Largest model file, bytes (a 100 MB file gets a diagnostic, not a parse).
+    std::size_t max_bytes = 16u << 20;
+    Limits expression;
+};
+
+/// The statements of a model file, in order, with the positions of their nodes. Statements
+/// with syntax errors are reported to the sink and left out; parsing goes on with the next
+/// statement, so several errors are reported in one run.
+struct ParsedModel {
+    std::vector<ast::Statement> statements;
+};
+
+/// Parses `text` (the whole file). `positions` must be constructed on the same text.
+ParsedModel parse_model(std::string_view text, Positions& positions, DiagnosticSink& sink, const FileLimits& limits = {});
+
+/// The keywords and built-in names of the language, which cannot be declared.
+bool is_keyword(std::string_view name);
+bool is_builtin(std::string_view name);
+
+} // namespace phynjo::grammar

@@ -1,0 +1,49 @@
+#pragma once
+// X3 rules of .lag statements (lag-format.md, *Statements*), on top of the expression rules.
+// A statement is one logical line (lag.cpp splits the file first: a newline inside open
+// parentheses is white space), so the rules see one statement at a time.
+#include "expression_def.hpp"
+
+namespace phynjo::grammar::parser {
+
+/// `kw(word)`: the keyword as a whole word (not the prefix of a longer name).
+inline auto kw(const char* word) { return x3::lexeme[x3::lit(word) >> !x3::char_("A-Za-z0-9_")]; }
+
+struct binding_class : annotate_position {};
+struct model_stmt_class : annotate_position {};
+struct coordinates_stmt_class : annotate_position {};
+struct parameters_stmt_class : annotate_position {};
+struct let_stmt_class : annotate_position {};
+struct lagrangian_stmt_class : annotate_position {};
+struct dissipation_stmt_class : annotate_position {};
+struct force_stmt_class : annotate_position {};
+struct initial_stmt_class : annotate_position {};
+struct statement_class {};
+
+inline const x3::rule<binding_class, ast::Binding> binding = "binding";
+inline const x3::rule<model_stmt_class, ast::ModelStmt> model_stmt = "model statement";
+inline const x3::rule<coordinates_stmt_class, ast::CoordinatesStmt> coordinates_stmt = "coordinates statement";
+inline const x3::rule<parameters_stmt_class, ast::ParametersStmt> parameters_stmt = "parameters statement";
+inline const x3::rule<let_stmt_class, ast::LetStmt> let_stmt = "let statement";
+inline const x3::rule<lagrangian_stmt_class, ast::LagrangianStmt> lagrangian_stmt = "lagrangian statement";
+inline const x3::rule<dissipation_stmt_class, ast::DissipationStmt> dissipation_stmt = "dissipation statement";
+inline const x3::rule<force_stmt_class, ast::ForceStmt> force_stmt = "force statement";
+inline const x3::rule<initial_stmt_class, ast::InitialStmt> initial_stmt = "initial statement";
+inline const x3::rule<statement_class, ast::Statement> statement = "statement";
+
+inline const auto binding_def = name >> *x3::char_('\'') >> '=' > expression;
+inline const auto model_stmt_def = kw("model") > name;
+inline const auto coordinates_stmt_def = kw("coordinates") > (name % ',');
+inline const auto parameters_stmt_def = kw("parameters") > (binding % ',');
+inline const auto let_stmt_def = kw("let") > name > '=' > expression;
+inline const auto lagrangian_stmt_def = kw("lagrangian") > expression;
+inline const auto dissipation_stmt_def = kw("dissipation") > expression;
+inline const auto force_stmt_def = kw("force") > name > '=' > expression;
+inline const auto initial_stmt_def = kw("initial") > (binding % ',');
+inline const auto statement_def = model_stmt | coordinates_stmt | parameters_stmt | let_stmt | lagrangian_stmt |
+                                  dissipation_stmt | force_stmt | initial_stmt;
+
+BOOST_SPIRIT_DEFINE(binding, model_stmt, coordinates_stmt, parameters_stmt, let_stmt, lagrangian_stmt, dissipation_stmt,
+                    force_stmt, initial_stmt, statement)
+
+} // namespace phynjo::grammar::parser

@@ -1,0 +1,125 @@
+// phynjo-lagc: the Lagrangian compiler.
+//   phynjo-lagc MODEL.lag -o OUT.cpp [--main]     writes OUT.cpp and OUT.hpp
+//   phynjo-lagc MODEL.lag --emit=eom [-o FILE]    M and f in the input syntax
+//   phynjo-lagc MODEL.lag --emit=latex [-o FILE]  a LaTeX document of L and the equations
+// Exit status: 0 ok, 1 the model has errors (reported as FILE:LINE:COL: error: …), 2 usage.
+#include "phynjo/codegen/emit.hpp"
+#include "phynjo/codegen/equations.hpp"
+#include "phynjo/codegen/frontend.hpp"
+
+#include <fstream>
+#include <iostream>
+#include <iterator>
+#include <sstream>
+
+#ifndef PHYNJO_VERSION
+#define PHYNJO_VERSION "unknown"
+#endif
+
+namespace {
+
+constexpr const char* usage_text = R"(usage: phynjo-lagc MODEL.lag -o OUT.cpp [--main]
+       phynjo-lagc MODEL.lag --emit=eom|latex|cpp [-o FILE]
+
+Compiles a Lagrangian model (.lag, see lag-format.md) to C++: OUT.cpp and, beside it, OUT.hpp
+declaring the model's namespace (dof, Parameters, mass_matrix, forcing, accelerations,
+momenta, energy, initial_state, and the runtime integration: system, make_world, workflow).
+
+options:
+  -o FILE        output file (for cpp: the .cpp; the .hpp is written beside it)
+  --emit=KIND    cpp (default), eom (M and f in the input syntax), latex (a LaTeX document)
+  --main         add a main() that simulates from the initial state and writes CSV
+                 (t, q..., q'..., E); run it with --help for its options
+  --help, --version
+
+exit status: 0 ok, 1 the model has errors, 2 usage error
+)";
+
+int usage_error(const std::string& m) {
+    std::cerr << "phynjo-lagc: " << m << "\ntry 'phynjo-lagc --help'\n";
+    return 2;
+}
+
+/// Writes `text` to `path` unless it already holds exactly that (no needless rebuilds).
+bool write_file(const std::string& path, const std::string& text) {
+    {
+        std::ifstream in(path, std::ios::binary);
+        if (in) {
+            std::string old((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+            if (old == text) return true;
+        }
+    }
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    out << text;
+    out.close();
+    if (!out) {
+        std::cerr << "phynjo-lagc: cannot write " << path << "\n";
+        return false;
+    }
+    return true;
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    using namespace phynjo;
+    std::string input, output, emit = "cpp";
+    bool with_main = false;
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        if (a == "--help" || a == "-h") {
+            std::cout << usage_text;
+            return 0;
+        }
+        if (a == "--version") {
+            std::cout << "phynjo-lagc " << PHYNJO_VERSION << "\n";
+            return 0;
+        }
+        if (a == "-o") {
+            if (++i >= argc) return usage_error("-o needs a file name");
+            output = argv[i];
+        } else if (a.rfind("--emit=", 0) == 0) {
+            emit = a.substr(7);
+            if (emit != "cpp" && emit != "eom" && emit != "latex") return usage_error("unknown --emit kind '" + emit + "'");
+        } else if (a == "--main") with_main = true;
+        else if (!a.empty() && a[0] == '-' && a != "-") return usage_error("unknown option '" + a + "'");
+        else if (input.empty()) input = a;
+        else return usage_error("more than one model file");
+    }
+    if (input.empty()) return usage_error("missing model file");
+    if (emit == "cpp" && output.empty()) return usage_error("-o OUT.cpp is needed to write C++");
+
+    std::ifstream in(input, std::ios::binary);
+    if (!in) {
+        std::cerr << "phynjo-lagc: cannot read '" << input << "'\n";
+        return 1;
+    }
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    grammar::DiagnosticSink sink(input, text);
+    try {
+        auto model = codegen::read_model(text, input, sink);
+        std::optional<codegen::EquationsOfMotion> eom;
+        if (model) eom = codegen::derive(*model, sink);
+        if (!model || !eom) {
+            std::cerr << sink.format_all();
+            return 1;
+        }
+        if (emit == "eom" || emit == "latex") {
+            const std::string doc = emit == "eom" ? codegen::emit_eom(*model, *eom) : codegen::emit_latex(*model, *eom);
+            if (output.empty()) std::cout << doc;
+            else if (!write_file(output, doc)) return 1;
+            return 0;
+        }
+        std::string header_path = output;
+        if (const auto dot = header_path.rfind('.'); dot != std::string::npos && header_path.find('/', dot) == std::string::npos)
+            header_path.erase(dot);
+        header_path += ".hpp";
+        const std::string header_name = header_path.substr(header_path.find_last_of('/') + 1);
+        const auto code = codegen::emit_cpp(*model, *eom, {.header_name = header_name, .main = with_main});
+        if (!write_file(header_path, code.header) || !write_file(output, code.source)) return 1;
+    } catch (const std::exception& e) {
+        std::cerr << sink.format_all() << input << ": error: " << e.what() << "\n";
+        return 1;
+    }
+    return 0;
+}
