@@ -310,12 +310,14 @@ std::optional<Model> analyze(const grammar::ParsedModel& parsed, const grammar::
 }
 
 std::optional<Model> read_model(std::string_view text, std::string_view source_name, grammar::DiagnosticSink& sink) {
-    if (text.find_first_not_of(" \t\r\n") == std::string_view::npos) {
+    const grammar::FileLimits limits;
+    if (text.size() <= limits.max_bytes && text.find_first_not_of(" \t\r\n") == std::string_view::npos) {
         sink.error(0, 1, "the model file is empty");
         return std::nullopt;
     }
     grammar::Positions positions(text);
-    const auto parsed = grammar::parse_model(text, positions, sink);
+    const auto parsed = grammar::parse_model(text, positions, sink, limits);
+    if (!parsed.readable) return std::nullopt;
     auto m = analyze(parsed, positions, sink, model_name_from_path(source_name));
     if (sink.error_count() > 0) return std::nullopt;
     return m;

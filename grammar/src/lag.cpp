@@ -111,12 +111,14 @@ ParsedModel parse_model(std::string_view text, Positions& positions, DiagnosticS
     if (text.size() > limits.max_bytes) {
         sink.error(0, 1, "file too large (" + std::to_string(text.size()) + " bytes; the limit is " +
                              std::to_string(limits.max_bytes) + ")");
+        model.readable = false;
         return model;
     }
     if (const std::size_t bad = invalid_utf8(text); bad != std::string_view::npos) {
         char buf[8];
         std::snprintf(buf, sizeof buf, "0x%02X", static_cast<unsigned char>(text[bad]));
         sink.error(bad, 1, std::string("not UTF-8 text: invalid byte ") + buf);
+        model.readable = false;
         return model;
     }
     for (const Range& r : split_statements(text, sink, limits.expression)) {

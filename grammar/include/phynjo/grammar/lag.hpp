@@ -21,6 +21,9 @@ struct FileLimits {
 /// statement, so several errors are reported in one run.
 struct ParsedModel {
     std::vector<ast::Statement> statements;
+    /// False when the file as a whole was rejected (too large, not UTF-8): nothing more to
+    /// say about its contents.
+    bool readable = true;
 };
 
 /// Parses `text` (the whole file). `positions` must be constructed on the same text.

@@ -1,0 +1,116 @@
+// Golden diagnostics for .lag files: every error class of lag-format.md, exactly as a user
+// sees it, several per run where possible.
+#include "phynjo/codegen/equations.hpp"
+#include "phynjo/codegen/frontend.hpp"
+
+#include <catch2/catch.hpp>
+
+namespace {
+std::string diagnose(std::string_view text) {
+    phynjo::grammar::DiagnosticSink sink("m.lag", text);
+    auto model = phynjo::codegen::read_model(text, "m.lag", sink);
+    if (model) (void)phynjo::codegen::derive(*model, sink);
+    return sink.error_count() ? sink.format_all() : "(accepted)";
+}
+const char* ok_tail = "coordinates q\nlagrangian 1/2*q'^2 - 1/2*q^2\n";
+} // namespace
+
+TEST_CASE("lag diagnostics: names", "[codegen][diagnostics]") {
+    CHECK(diagnose("coordinates q\nlagrangian 1/2*m*q'^2\n") ==
+          "m.lag:2:16: error: unknown name 'm'\n    lagrangian 1/2*m*q'^2\n                   ^\n");
+    CHECK(diagnose("coordinates q, q\nlagrangian q'^2\n") ==
+          "m.lag:1:16: error: 'q' is already declared\n    coordinates q, q\n                   ^\n"
+          "m.lag:1:13: note: the first declaration of 'q' is here\n    coordinates q, q\n                ^\n");
+    CHECK(diagnose("coordinates q\nparameters q = 1\nlagrangian q'^2\n") ==
+          "m.lag:2:12: error: 'q' is already declared\n    parameters q = 1\n               ^\n"
+          "m.lag:1:13: note: the first declaration of 'q' is here\n    coordinates q\n                ^\n");
+    CHECK(diagnose("coordinates t\nlagrangian 1\n") ==
+          "m.lag:1:13: error: 't' is a built-in name and cannot be declared\n    coordinates t\n                ^\n");
+    CHECK(diagnose("coordinates q\nlet sin = 2\nlagrangian q'^2\n") ==
+          "m.lag:2:5: error: 'sin' is a built-in name and cannot be declared\n    let sin = 2\n        ^~~\n");
+    CHECK(diagnose("coordinates q, lagrangian\nlagrangian q'^2\n") ==
+          "m.lag:1:16: error: 'lagrangian' is a keyword and cannot be declared\n    coordinates q, lagrangian\n"
+          "                   ^~~~~~~~~~\n");
+    CHECK(diagnose("coordinates q\nparameters class = 1\nlagrangian q'^2\n") ==
+          "m.lag:2:12: error: 'class' cannot name a parameter: it is a C++ keyword, and parameters become fields of the "
+          "generated Parameters struct\n    parameters class = 1\n               ^~~~~\n");
+    CHECK(diagnose("let x = y\ncoordinates q\nlagrangian q'^2\n") ==
+          "m.lag:1:9: error: unknown name 'y'\n    let x = y\n            ^\n");
+    // declared after use
+    CHECK(diagnose("coordinates q\nlagrangian k*q'^2\nparameters k = 2\n") ==
+          "m.lag:2:12: error: unknown name 'k'\n    lagrangian k*q'^2\n               ^\n");
+}
+
+TEST_CASE("lag diagnostics: missing and repeated statements", "[codegen][diagnostics]") {
+    CHECK(diagnose("coordinates q\n") == "m.lag:1:1: error: the model has no 'lagrangian' statement\n    coordinates q\n    ^\n");
+    CHECK(diagnose("lagrangian 1\n") == "m.lag:1:1: error: the model has no 'coordinates' statement\n    lagrangian 1\n    ^\n");
+    CHECK(diagnose("") == "m.lag:1:1: error: the model file is empty\n    \n    ^\n");
+    CHECK(diagnose("  \n\n") == "m.lag:1:1: error: the model file is empty\n      \n    ^\n");
+    CHECK(diagnose(std::string(ok_tail) + "lagrangian q'^2\n") ==
+          "m.lag:3:1: error: a second 'lagrangian' statement\n    lagrangian q'^2\n    ^~~~~~~~~~~~~~~\n"
+          "m.lag:2:1: note: the first 'lagrangian' statement is here\n    lagrangian 1/2*q'^2 - 1/2*q^2\n    ^~~~~~~~~~~~~~~~~~~~~~~~~~~~~\n");
+}
+
+TEST_CASE("lag diagnostics: derivatives and constants", "[codegen][diagnostics]") {
+    CHECK(diagnose("coordinates q\nlagrangian q''^2\n") ==
+          "m.lag:2:12: error: second derivative: q'' is not allowed in a model (the equations of motion are derived from L)\n"
+          "    lagrangian q''^2\n               ^~~\n");
+    CHECK(diagnose("coordinates q\nlet v = q'\nlagrangian v'^2\n") == // v' is q''
+          "m.lag:3:12: error: second derivative: q'' is not allowed in a model (the equations of motion are derived from L)\n"
+          "    lagrangian v'^2\n               ^~\n");
+    CHECK(diagnose("coordinates q\nlet v = q*q'\nlagrangian v'^2\n") ==
+          "m.lag:3:12: error: second derivative: ' applied to an expression that contains the velocity q'\n"
+          "    lagrangian v'^2\n               ^~\n");
+    // a total derivative of a parenthesised expression, and a parenthesised velocity: valid
+    CHECK(diagnose("coordinates q\nlagrangian (q*sin(q))'^2 + (q')^2\n") == "(accepted)");
+    CHECK(diagnose("coordinates q\nparameters k = 2*q\nlagrangian q'^2\n") ==
+          "m.lag:2:16: error: the value of parameter 'k' is not constant: it depends on the coordinate q\n"
+          "    parameters k = 2*q\n                   ^~~\n");
+    CHECK(diagnose("coordinates q\nparameters k = t\nlagrangian q'^2\n") ==
+          "m.lag:2:16: error: the value of parameter 'k' is not constant: it depends on time t\n"
+          "    parameters k = t\n                   ^\n");
+    CHECK(diagnose("parameters a = 2, b = a^2 + pi\ncoordinates q\nlagrangian b*q'^2\n") == "(accepted)");
+    CHECK(diagnose("coordinates q\nparameters k = log(0)\nlagrangian q'^2\n") ==
+          "m.lag:2:16: error: log(0) is undefined\n    parameters k = log(0)\n                   ^~~~~~\n");
+    CHECK(diagnose("coordinates q\ninitial q = q\nlagrangian q'^2\n") ==
+          "m.lag:2:13: error: the initial value of q is not constant: it depends on the coordinate q\n"
+          "    initial q = q\n                ^\n");
+}
+
+TEST_CASE("lag diagnostics: forces, initial values, singular mass matrices", "[codegen][diagnostics]") {
+    CHECK(diagnose("coordinates q\nparameters m = 1\nforce m = 2\nlagrangian q'^2\n") ==
+          "m.lag:3:7: error: force on 'm', which is not a coordinate\n    force m = 2\n          ^\n");
+    CHECK(diagnose("coordinates q\nforce q = 1\nforce q = 2\nlagrangian q'^2\n") ==
+          "m.lag:3:7: error: a second force on 'q'\n    force q = 2\n          ^\n");
+    CHECK(diagnose("coordinates q\ninitial x = 1\nlagrangian q'^2\n") ==
+          "m.lag:2:9: error: unknown name 'x'\n    initial x = 1\n            ^\n");
+    CHECK(diagnose("coordinates x, y\nlagrangian 1/2*x'^2 - y^2\n") ==
+          "m.lag:1:16: error: the mass matrix is singular for every state: the equations of motion cannot be solved for "
+          "y'' (y' does not appear in the Lagrangian)\n    coordinates x, y\n                   ^\n");
+    CHECK(diagnose("coordinates a, b\nlagrangian 1/2*(a' + b')^2 - a^2 - b^2\n") ==
+          "m.lag:1:16: error: the mass matrix is singular for every state: the equations of motion cannot be solved for "
+          "b''\n    coordinates a, b\n                   ^\n");
+}
+
+TEST_CASE("lag diagnostics: syntax, file-level problems, several errors per run", "[codegen][diagnostics]") {
+    CHECK(diagnose("coordinates q\nlagrangian (q'^2\n") ==
+          "m.lag:2:12: error: '(' is never closed\n    lagrangian (q'^2\n               ^\n"
+          "m.lag:1:1: error: the model has no 'lagrangian' statement\n    coordinates q\n    ^\n");
+    CHECK(diagnose("coordinates q\nlagrangian q'^2)\n") ==
+          "m.lag:2:16: error: unmatched ')'\n    lagrangian q'^2)\n                   ^\n"
+          "m.lag:1:1: error: the model has no 'lagrangian' statement\n    coordinates q\n    ^\n");
+    CHECK(diagnose("coordinates q\nlagrangain q'^2\n") ==
+          "m.lag:2:1: error: expected a statement (model, coordinates, parameters, let, lagrangian, dissipation, force or "
+          "initial), found 'lagrangain'\n    lagrangain q'^2\n    ^~~~~~~~~~\n"
+          "m.lag:1:1: error: the model has no 'lagrangian' statement\n    coordinates q\n    ^\n");
+    CHECK(diagnose(std::string("coordinates q\nlagrangian q'^2 \xff\n")) ==
+          "m.lag:2:17: error: not UTF-8 text: invalid byte 0xFF\n    lagrangian q'^2 \xff\n                    ^\n");
+    CHECK(diagnose(std::string(17u << 20, ' ')).rfind("m.lag:1:1: error: file too large (17825792 bytes; the limit is 16777216)", 0) == 0);
+    // wrapped in parentheses, a statement may span lines; a comment may follow
+    CHECK(diagnose("coordinates q   # the angle\nlagrangian (1/2*q'^2\n   - 1/2*q^2)\n") == "(accepted)");
+    // three independent mistakes, three diagnostics
+    const std::string three = diagnose("coordinates q\nparameters k = q\nlet a = b\nlagrangian q'^2 + c\n");
+    CHECK(three.find("m.lag:2:16: error: the value of parameter 'k' is not constant") != std::string::npos);
+    CHECK(three.find("m.lag:3:9: error: unknown name 'b'") != std::string::npos);
+    CHECK(three.find("m.lag:4:19: error: unknown name 'c'") != std::string::npos);
+}

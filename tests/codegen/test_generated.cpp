@@ -1,0 +1,166 @@
+// The generated code of the example models: physics checks on the compiled functions, and
+// the runtime integration (workflows, integrators).
+#include "cart_pole.hpp"
+#include "double_pendulum.hpp"
+#include "nlink_cart_5.hpp"
+#include "pendulum.hpp"
+#include "spring_pendulum.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+using namespace phynjo::runtime;
+
+TEST_CASE("small-angle pendulum: period 2π√(l/g)", "[codegen][generated]") {
+    pendulum::Parameters P;
+    P.l = 0.8;
+    World w = pendulum::make_world(P);
+    w.at(kGQ, 0) = 0.01;
+    Stepper s(pendulum::workflow(P, w, "rk4"));
+    const double dt = 1e-4, T0 = 2 * M_PI * std::sqrt(P.l / P.g);
+    std::vector<double> crossings; // downward zero crossings of θ
+    double prev = w.at(kGQ, 0), t = 0;
+    while (crossings.size() < 4) {
+        s.step(w, dt);
+        t += dt;
+        const double cur = w.at(kGQ, 0);
+        if (prev > 0 && cur <= 0) crossings.push_back(t - dt * cur / (cur - prev));
+        prev = cur;
+    }
+    const double T = (crossings[3] - crossings[0]) / 3;
+    // finite amplitude lengthens the period by θ0²/16 = 6e-6 (relative)
+    CHECK(T == Approx(T0 * (1 + 0.01 * 0.01 / 16)).epsilon(1e-6));
+}
+
+TEST_CASE("accelerations solve M q'' = f, M is the Jacobian of the momenta", "[codegen][generated]") {
+    std::mt19937_64 rng(5);
+    std::uniform_real_distribution<double> u(-1.5, 1.5);
+    nlink_cart_5::Parameters P;
+    constexpr std::size_t n = nlink_cart_5::dof;
+    for (int trial = 0; trial < 20; ++trial) {
+        std::vector<double> q(n), v(n), a(n), f(n), M(n * n), p(n), p2(n);
+        for (std::size_t i = 0; i < n; ++i) {
+            q[i] = u(rng);
+            v[i] = u(rng);
+        }
+        nlink_cart_5::accelerations(P, 0, q, v, a);
+        nlink_cart_5::mass_matrix(P, 0, q, M);
+        nlink_cart_5::forcing(P, 0, q, v, f);
+        for (std::size_t i = 0; i < n; ++i) { // residual of M a = f
+            double r = -f[i];
+            for (std::size_t j = 0; j < n; ++j) r += M[i * n + j] * a[j];
+            CHECK(std::fabs(r) < 1e-11 * (1 + std::fabs(f[i])));
+        }
+        // M_ij = ∂p_i/∂q'_j by central differences
+        const double h = 1e-6;
+        for (std::size_t j = 0; j < n; ++j) {
+            std::vector<double> vp = v, vm = v;
+            vp[j] += h;
+            vm[j] -= h;
+            nlink_cart_5::momenta(P, 0, q, vp, p);
+            nlink_cart_5::momenta(P, 0, q, vm, p2);
+            for (std::size_t i = 0; i < n; ++i) CHECK((p[i] - p2[i]) / (2 * h) == Approx(M[i * n + j]).margin(1e-7));
+        }
+    }
+}
+
+TEST_CASE("generated functions report misuse and singular states", "[codegen][generated]") {
+    double_pendulum::Parameters P;
+    std::vector<double> q{0.1, 0.2}, v{0, 0}, a(2), bad(3);
+    CHECK_THROWS_AS(double_pendulum::accelerations(P, 0, q, v, bad), std::invalid_argument);
+    CHECK_THROWS_WITH(double_pendulum::accelerations(P, 0, bad, v, a),
+                      "double_pendulum::accelerations: q has 3 entries, expected 2");
+    P.m1 = P.m2 = 0; // massless: M = 0
+    CHECK_THROWS_AS(double_pendulum::accelerations(P, 0, q, v, a), SingularMassMatrix);
+    nlink_cart_5::Parameters Q;
+    Q.m0 = Q.m1 = Q.m2 = Q.m3 = Q.m4 = Q.m5 = 0;
+    std::vector<double> q6(6, 0.1), v6(6, 0), a6(6);
+    CHECK_THROWS_AS(nlink_cart_5::accelerations(Q, 0, q6, v6, a6), SingularMassMatrix);
+    double_pendulum::Parameters R;
+    R.g = std::nan("");
+    CHECK_THROWS_AS(double_pendulum::accelerations(R, 0, q, v, a), NonFiniteResult);
+}
+
+TEST_CASE("n-link cart: the cart's momentum is conserved (q0 is cyclic), energy too", "[codegen][generated]") {
+    nlink_cart_5::Parameters P; // F = 0
+    World w = nlink_cart_5::make_world(P);
+    w.at(kGV, 0) = 0.3;
+    const auto sys = nlink_cart_5::system(P);
+    std::vector<double> p(6);
+    auto p0 = [&] {
+        sys.momenta(w.time, w.field(kGQ), w.field(kGV), p);
+        return p[0];
+    };
+    const double pc0 = p0(), e0 = sys.energy(0, w.field(kGQ), w.field(kGV));
+    Stepper s(nlink_cart_5::workflow(P, w, "rk4"));
+    s.run(w, 5e-4, 6000);
+    CHECK(p0() == Approx(pc0).margin(1e-9));
+    CHECK(sys.energy(w.time, w.field(kGQ), w.field(kGV)) == Approx(e0).epsilon(1e-8));
+}
+
+TEST_CASE("cart-pole: friction only removes energy; a push moves the cart", "[codegen][generated]") {
+    cart_pole::Parameters P; // b = 0.1, F = 0
+    World w = cart_pole::make_world(P);
+    w.at(kGV, 0) = 1.0;
+    const auto sys = cart_pole::system(P);
+    Stepper s(cart_pole::workflow(P, w, "rk4"));
+    double e = sys.energy(0, w.field(kGQ), w.field(kGV));
+    for (int k = 0; k < 2000; ++k) {
+        s.step(w, 1e-3);
+        const double e2 = sys.energy(w.time, w.field(kGQ), w.field(kGV));
+        REQUIRE(e2 <= e + 1e-12);
+        e = e2;
+    }
+    cart_pole::Parameters pushed;
+    pushed.F = 2;
+    pushed.b = 0;
+    World u = cart_pole::make_world(pushed);
+    u.at(kGQ, 1) = 0; // pole upright and at rest: a uniform rod on a pushed cart
+    std::vector<double> acc(2);
+    cart_pole::accelerations(pushed, 0, u.field(kGQ), u.field(kGV), acc);
+    // x'' = F/(mc + mp/4) and θ'' = −3x''/(4 lh) for a uniform rod (moment of inertia
+    // about its centre mp(2 lh)²/12)
+    CHECK(acc[0] == Approx(2 / (1 + 0.1 / 4)));
+    CHECK(acc[1] == Approx(-3 * acc[0] / (4 * 0.5)));
+}
+
+TEST_CASE("integrators for generated models agree; Dormand-Prince meets its tolerance", "[codegen][generated]") {
+    spring_pendulum::Parameters P;
+    const auto sys = spring_pendulum::system(P);
+    World a = spring_pendulum::make_world(P), b = a;
+    Stepper(spring_pendulum::workflow(P, a, "rk4")).run(a, 1e-4, 20000); // 2 s, very accurate
+    DormandPrince45 dp(sys, {.rtol = 1e-10, .atol = 1e-12});
+    double h = 1e-3;
+    while (b.time < 2 - 1e-12) h = dp.step(b, dp.next_dt() > 0 ? dp.next_dt() : h, 2.0);
+    CHECK(b.time == Approx(2.0));
+    for (Index i = 0; i < 2; ++i) {
+        CHECK(b.at(kGQ, i) == Approx(a.at(kGQ, i)).margin(1e-7));
+        CHECK(b.at(kGV, i) == Approx(a.at(kGV, i)).margin(1e-6));
+    }
+}
+
+TEST_CASE("implicit midpoint keeps the double pendulum's energy bounded over 10^6 steps", "[codegen][generated][long]") {
+    double_pendulum::Parameters P;
+    World w = double_pendulum::make_world(P);
+    w.at(kGQ, 0) = 1.2; // E(0) ≠ 0
+    w.at(kGQ, 1) = -0.4;
+    const auto sys = double_pendulum::system(P);
+    const double e0 = sys.energy(0, w.field(kGQ), w.field(kGV));
+    Stepper s(double_pendulum::workflow(P, w, "midpoint"));
+    const std::size_t steps = 1000000;
+    double first = 0, last = 0;
+    for (std::size_t k = 1; k <= steps; ++k) {
+        s.step(w, 1e-3);
+        if (k % 100 == 0) {
+            const double err = std::fabs((sys.energy(w.time, w.field(kGQ), w.field(kGV)) - e0) / e0);
+            if (k <= steps / 10) first = std::max(first, err);
+            if (k > steps - steps / 10) last = std::max(last, err);
+        }
+    }
+    INFO("largest relative energy error: first 10% of the run " << first << ", last 10% " << last);
+    CHECK(first < 1e-4);
+    CHECK(last < 2 * first); // bounded: no drift over 1000 s
+}

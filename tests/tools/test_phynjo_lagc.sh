@@ -1,0 +1,41 @@
+#!/usr/bin/env bash
+# phynjo-lagc on the command line: outputs, determinism, exit codes, diagnostics on stderr.
+#   usage: test_phynjo_lagc.sh PATH/TO/phynjo-lagc MODELS_DIR
+set -u
+lagc=$1; models=$2
+work=$(mktemp -d); trap 'rm -rf "$work"' EXIT
+pass=0; fail=0
+ok() { echo "ok   $1"; pass=$((pass+1)); }
+bad() { echo "FAIL $1"; fail=$((fail+1)); }
+
+"$lagc" "$models/double_pendulum.lag" -o "$work/a/../dp.cpp" 2>/dev/null; [ $? -ne 0 ] && ok "missing output directory is an error" || bad "missing output directory"
+"$lagc" "$models/double_pendulum.lag" -o "$work/dp.cpp" && [ -s "$work/dp.cpp" ] && [ -s "$work/dp.hpp" ] \
+  && grep -q '#include "dp.hpp"' "$work/dp.cpp" && grep -q 'namespace double_pendulum' "$work/dp.hpp" \
+  && ok "writes OUT.cpp and OUT.hpp" || bad "writes OUT.cpp and OUT.hpp"
+cp "$work/dp.cpp" "$work/first.cpp"; cp "$work/dp.hpp" "$work/first.hpp"
+"$lagc" "$models/double_pendulum.lag" -o "$work/dp.cpp"
+cmp -s "$work/dp.cpp" "$work/first.cpp" && cmp -s "$work/dp.hpp" "$work/first.hpp" && ok "deterministic: byte-identical output" || bad "deterministic"
+"$lagc" "$models/nlink_cart_5.lag" -o "$work/n1.cpp" && "$lagc" "$models/nlink_cart_5.lag" -o "$work/n2.cpp" \
+  && diff <(sed 's/n1\.hpp/X/' "$work/n1.cpp") <(sed 's/n2\.hpp/X/' "$work/n2.cpp") >/dev/null && ok "deterministic: nlink" || bad "deterministic: nlink"
+"$lagc" "$models/pendulum.lag" --emit=eom | grep -qx 'M(1,1) = l^2\*m' && ok "--emit=eom" || bad "--emit=eom"
+"$lagc" "$models/pendulum.lag" --emit=latex -o "$work/p.tex" && grep -q '\\documentclass' "$work/p.tex" && grep -q 'M_{11} = l^{2} m' "$work/p.tex" \
+  && ok "--emit=latex" || bad "--emit=latex"
+"$lagc" --help | grep -q 'usage: phynjo-lagc' && ok "--help" || bad "--help"
+[ "$("$lagc" --version)" = "phynjo-lagc 0.1.0" ] && ok "--version" || bad "--version"
+"$lagc" >/dev/null 2>&1; [ $? -eq 2 ] && ok "no arguments: exit 2" || bad "no arguments: exit 2"
+"$lagc" "$models/pendulum.lag" --bogus >/dev/null 2>&1; [ $? -eq 2 ] && ok "unknown option: exit 2" || bad "unknown option"
+"$lagc" "$models/pendulum.lag" >/dev/null 2>&1; [ $? -eq 2 ] && ok "no -o for C++: exit 2" || bad "no -o for C++"
+"$lagc" "$work/nonexistent.lag" -o "$work/x.cpp" >/dev/null 2>&1; [ $? -eq 1 ] && ok "unreadable model: exit 1" || bad "unreadable model"
+printf 'coordinates q\nlagrangian 1/2*m*q'"'"'^2\n' > "$work/bad.lag"
+err=$("$lagc" "$work/bad.lag" -o "$work/bad.cpp" 2>&1 >/dev/null); rc=$?
+want="$work/bad.lag:2:16: error: unknown name 'm'
+    lagrangian 1/2*m*q'^2
+                   ^"
+[ $rc -eq 1 ] && [ "$err" == "$want" ] && [ ! -e "$work/bad.cpp" ] && ok "model error: exit 1, diagnostic, no output" || { bad "model error [$err] rc=$rc"; }
+head -c 110000000 /dev/zero | tr '\0' ' ' > "$work/huge.lag"
+err=$("$lagc" "$work/huge.lag" -o "$work/huge.cpp" 2>&1); rc=$?
+[ $rc -eq 1 ] && echo "$err" | grep -q "file too large (110000000 bytes" && ok "a 110 MB file: diagnosed" || bad "huge file [$err]"
+printf '\x89PNG\r\n' > "$work/bin.lag"
+"$lagc" "$work/bin.lag" -o "$work/bin.cpp" 2>&1 | grep -q "not UTF-8 text" && ok "binary file: diagnosed" || bad "binary file"
+echo "$pass passed, $fail failed"
+[ $fail -eq 0 ]
