@@ -3,9 +3,19 @@
 
 #include "number_ops.hpp"
 
+#include <boost/container/small_vector.hpp>
+
 #include <string>
 
 namespace phynjo::cas {
+
+namespace {
+/// A span over a small_vector (Boost 1.74's iterators are not C++20 contiguous iterators).
+template <typename V>
+std::span<const phynjo::cas::Expr> as_span(const V& v) {
+    return {v.data(), v.size()};
+}
+} // namespace
 
 namespace {
 
@@ -15,18 +25,18 @@ template <typename Rec>
 Expr derive_compound(Expr e, Rec&& rec) {
     switch (e.kind()) {
     case Kind::Add: {
-        std::vector<Expr> terms;
+        boost::container::small_vector<Expr, 16> terms;
         terms.reserve(e->nargs);
         for (std::uint32_t i = 0; i < e->nargs; ++i) {
             Expr d = rec(e.args()[i]);
             if (!d.is_zero()) terms.push_back(mul({e->coefs[i], d}));
         }
-        return terms.empty() ? Expr(0) : add(terms);
+        return terms.empty() ? Expr(0) : add(as_span(terms));
     }
     case Kind::Mul: {
         // d(c·u1·…·un) = Σ_i c·u1…u_{i-1}·u_i'·u_{i+1}…un
         const auto fs = e.args();
-        std::vector<Expr> terms, factors;
+        boost::container::small_vector<Expr, 16> terms, factors;
         terms.reserve(fs.size());
         factors.reserve(fs.size() + 1);
         for (std::size_t i = 0; i < fs.size(); ++i) {
@@ -37,9 +47,9 @@ Expr derive_compound(Expr e, Rec&& rec) {
             for (std::size_t j = 0; j < fs.size(); ++j)
                 if (j != i) factors.push_back(fs[j]);
             factors.push_back(d);
-            terms.push_back(mul(factors));
+            terms.push_back(mul(as_span(factors)));
         }
-        return terms.empty() ? Expr(0) : add(terms);
+        return terms.empty() ? Expr(0) : add(as_span(terms));
     }
     case Kind::Pow: {
         const Expr b = e.args()[0], x = e.args()[1];
@@ -150,7 +160,7 @@ Expr total_time_derivative(Expr e, std::span<const Expr> coordinates) {
     }
     Expr dt = diff(e, time_symbol());
     if (!dt.is_zero()) terms.push_back(dt);
-    return terms.empty() ? Expr(0) : add(terms);
+    return terms.empty() ? Expr(0) : add(as_span(terms));
 }
 
 } // namespace phynjo::cas

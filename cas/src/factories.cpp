@@ -1,11 +1,21 @@
 // The canonicalizing factories: every node is made here, in canonical form (see expr.hpp).
 #include "number_ops.hpp"
 
+#include <boost/container/small_vector.hpp>
+
 #include <algorithm>
 #include <cstring>
 #include <unordered_set>
 
 namespace phynjo::cas {
+
+namespace {
+/// A span over a small_vector (Boost 1.74's iterators are not C++20 contiguous iterators).
+template <typename V>
+std::span<const phynjo::cas::Expr> as_span(const V& v) {
+    return {v.data(), v.size()};
+}
+} // namespace
 
 using detail::make_int;
 using detail::make_number;
@@ -192,7 +202,7 @@ std::pair<Expr, Expr> primitive_part(Expr s) {
 Expr add(std::span<const Expr> xs) {
     if (xs.size() == 1) return xs[0];
     Expr constant = make_int(0);
-    std::vector<std::pair<Expr, Expr>> terms; // (rest, coefficient)
+    boost::container::small_vector<std::pair<Expr, Expr>, 16> terms; // (rest, coefficient)
     terms.reserve(xs.size() + 4);
     for (Expr x : xs) {
         switch (x.kind()) {
@@ -214,7 +224,7 @@ Expr add(std::span<const Expr> xs) {
         }
     }
     std::sort(terms.begin(), terms.end(), [](const auto& a, const auto& b) { return less(a.first, b.first); });
-    std::vector<Expr> rests, coefs;
+    boost::container::small_vector<Expr, 16> rests, coefs;
     rests.reserve(terms.size());
     coefs.reserve(terms.size());
     for (std::size_t i = 0; i < terms.size();) {
@@ -229,7 +239,7 @@ Expr add(std::span<const Expr> xs) {
     }
     if (rests.empty()) return constant;
     if (rests.size() == 1 && constant.is_zero()) return scale(coefs[0], rests[0]);
-    return make_add_node(constant, rests, coefs);
+    return make_add_node(constant, as_span(rests), as_span(coefs));
 }
 
 Expr add(std::initializer_list<Expr> xs) { return add(std::span<const Expr>(xs.begin(), xs.size())); }
@@ -246,7 +256,7 @@ Expr base_of(Expr f) { return f.kind() == Kind::Pow ? f.args()[0] : f; }
 Expr mul(std::span<const Expr> xs) {
     if (xs.size() == 1) return xs[0];
     Expr coef = make_int(1);
-    std::vector<Factor> fs;
+    boost::container::small_vector<Factor, 16> fs;
     fs.reserve(xs.size() + 4);
     auto push_factor = [&](Expr f) {
         if (f.kind() == Kind::Pow) fs.push_back({f.args()[0], f.args()[1], f});
@@ -273,7 +283,7 @@ Expr mul(std::span<const Expr> xs) {
     }
     if (coef.is_zero()) return coef;
     std::sort(fs.begin(), fs.end(), [](const Factor& a, const Factor& b) { return less(a.base, b.base); });
-    std::vector<Expr> out;
+    boost::container::small_vector<Expr, 16> out;
     out.reserve(fs.size());
     bool reflatten = false;
     for (std::size_t i = 0; i < fs.size();) {
@@ -282,10 +292,10 @@ Expr mul(std::span<const Expr> xs) {
         Expr p;
         if (j == i + 1) p = fs[i].original; // a lone factor is already canonical
         else {
-            std::vector<Expr> exps;
+            boost::container::small_vector<Expr, 8> exps;
             exps.reserve(j - i);
             for (std::size_t k = i; k < j; ++k) exps.push_back(fs[k].exp);
-            p = pow(fs[i].base, add(exps));
+            p = pow(fs[i].base, add(as_span(exps)));
         }
         switch (p.kind()) {
         case Kind::Number: coef = num_mul(coef, p); break;
@@ -304,12 +314,12 @@ Expr mul(std::span<const Expr> xs) {
     }
     if (reflatten) {
         out.push_back(coef);
-        return mul(out);
+        return mul(as_span(out));
     }
     if (coef.is_zero()) return coef;
     if (out.empty()) return coef;
     if (out.size() == 1) return scale(coef, out[0]);
-    return make_mul_node(coef, out);
+    return make_mul_node(coef, as_span(out));
 }
 
 Expr mul(std::initializer_list<Expr> xs) { return mul(std::span<const Expr>(xs.begin(), xs.size())); }

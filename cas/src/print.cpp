@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdio>
 
 namespace phynjo::cas {
 
@@ -183,11 +184,39 @@ private:
         }
         return 6;
     }
+    /// A short key for the display order, computed without printing subtrees: names for
+    /// variables, the function name and its argument's key for functions, the structural
+    /// hash for anything deeper (deterministic, cheap).
+    static std::string key(Expr x, int depth = 0) {
+        switch (x.kind()) {
+        case Kind::Number: return x.value().get_str();
+        case Kind::Constant: return "pi";
+        case Kind::Symbol: return std::string(x->name);
+        case Kind::TimeDerivative: return std::string(symbol_name(x)) + std::string(static_cast<std::size_t>(x->sub), '\'');
+        case Kind::Function:
+            return std::string(function_name(static_cast<Function>(x->sub))) + "(" + (depth < 2 ? key(x.args()[0], depth + 1) : "") + ")";
+        case Kind::Pow: return key(x.args()[0], depth + 1) + "^" + (depth < 2 ? key(x.args()[1], depth + 1) : "");
+        case Kind::Mul: {
+            if (depth >= 2) break;
+            std::vector<std::string> parts;
+            for (Expr f : x.args()) parts.push_back(key(f, depth + 1));
+            std::sort(parts.begin(), parts.end());
+            std::string s;
+            for (const auto& p : parts) s += (s.empty() ? "" : "*") + p;
+            return s;
+        }
+        case Kind::Add: break;
+        }
+        char buf[24];
+        std::snprintf(buf, sizeof buf, "~%016llx", static_cast<unsigned long long>(x.hash()));
+        return buf;
+    }
+
     std::vector<Expr> display_order(std::span<const Expr> fs) {
         std::vector<std::pair<std::pair<int, std::string>, Expr>> keyed;
         for (Expr f : fs) {
-            const Expr b = f.kind() == Kind::Pow ? f.args()[0] : f; // key on the base: no recursion into f
-            keyed.push_back({{rank(f), Printer(Mode::Infix, nullptr).print(b).s}, f});
+            const Expr b = f.kind() == Kind::Pow ? f.args()[0] : f; // key on the base
+            keyed.push_back({{rank(f), key(b)}, f});
         }
         std::stable_sort(keyed.begin(), keyed.end(), [](auto& a, auto& b) { return a.first < b.first; });
         std::vector<Expr> out;
@@ -250,8 +279,7 @@ private:
     Out sum(Expr x) {
         // terms in display order, the constant last
         std::vector<std::pair<std::string, std::size_t>> order;
-        for (std::uint32_t i = 0; i < x->nargs; ++i)
-            order.push_back({Printer(Mode::Infix, nullptr).print(x.args()[i]).s, i});
+        for (std::uint32_t i = 0; i < x->nargs; ++i) order.push_back({key(x.args()[i]), i});
         std::stable_sort(order.begin(), order.end());
         // readability: a positive term leads (sqrt(x) - exp(y), not -exp(y) + sqrt(x))
         auto positive = std::find_if(order.begin(), order.end(),
