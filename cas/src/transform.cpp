@@ -201,6 +201,89 @@ Expr simplify(Expr e) {
     return e;
 }
 
+namespace {
+
+/// A term of a sum as coefficient × Π atom^multiplicity (atoms: bases of positive integer
+/// powers; any other factor is an atom of multiplicity 1).
+struct HTerm {
+    Expr coef;
+    std::vector<std::pair<Expr, long>> atoms; // sorted by canonical order of the atom
+};
+
+HTerm to_hterm(Expr coef, Expr rest) {
+    HTerm t{coef, {}};
+    auto add_factor = [&](Expr f) {
+        if (f.kind() == Kind::Pow && f.args()[1].is_integer() && f.args()[1].value() > 0 &&
+            f.args()[1].value() < 1000)
+            t.atoms.emplace_back(f.args()[0], f.args()[1].value().get_num().get_si());
+        else t.atoms.emplace_back(f, 1);
+    };
+    if (rest.is_null()) return t;
+    if (rest.kind() == Kind::Mul) {
+        t.coef = mul({t.coef, rest->number});
+        for (Expr f : rest.args()) add_factor(f);
+    } else add_factor(rest);
+    std::sort(t.atoms.begin(), t.atoms.end(), [](auto& a, auto& b) { return compare(a.first, b.first) < 0; });
+    return t;
+}
+
+Expr from_hterm(const HTerm& t) {
+    std::vector<Expr> fs{t.coef};
+    for (const auto& [a, m] : t.atoms) fs.push_back(m == 1 ? a : pow(a, Expr(m)));
+    return mul(fs);
+}
+
+Expr horner_terms(std::vector<HTerm> terms) {
+    if (terms.size() <= 1) {
+        if (terms.empty()) return Expr(0);
+        return from_hterm(terms[0]);
+    }
+    // the atom in the most terms (ties: canonical order)
+    std::vector<std::pair<Expr, int>> counts;
+    for (const HTerm& t : terms)
+        for (const auto& [a, m] : t.atoms) {
+            auto it = std::find_if(counts.begin(), counts.end(), [&](auto& c) { return c.first == a; });
+            if (it == counts.end()) counts.emplace_back(a, 1);
+            else ++it->second;
+        }
+    const std::pair<Expr, int>* best = nullptr;
+    for (const auto& c : counts)
+        if (c.second >= 2 && (!best || c.second > best->second ||
+                              (c.second == best->second && compare(c.first, best->first) < 0)))
+            best = &c;
+    if (!best) {
+        std::vector<Expr> all;
+        for (const HTerm& t : terms) all.push_back(from_hterm(t));
+        return add(all);
+    }
+    const Expr atom = best->first;
+    std::vector<HTerm> with, without;
+    for (HTerm& t : terms) {
+        auto it = std::find_if(t.atoms.begin(), t.atoms.end(), [&](auto& p) { return p.first == atom; });
+        if (it == t.atoms.end()) {
+            without.push_back(std::move(t));
+            continue;
+        }
+        if (--it->second == 0) t.atoms.erase(it);
+        with.push_back(std::move(t));
+    }
+    const Expr factored = mul({atom, horner_terms(std::move(with))});
+    return without.empty() ? factored : add({factored, horner_terms(std::move(without))});
+}
+
+} // namespace
+
+Expr horner(Expr e) {
+    std::unordered_map<const Node*, Expr> memo;
+    return map_bottom_up(e, memo, [](Expr x) {
+        if (x.kind() != Kind::Add) return x;
+        std::vector<HTerm> terms;
+        for (std::uint32_t i = 0; i < x->nargs; ++i) terms.push_back(to_hterm(x->coefs[i], x.args()[i]));
+        if (!x->number.is_zero()) terms.push_back(HTerm{x->number, {}});
+        return horner_terms(std::move(terms));
+    });
+}
+
 Expr subs(Expr e, const std::unordered_map<Expr, Expr>& replacements) {
     if (replacements.empty()) return e;
     std::unordered_map<const Node*, Expr> memo;

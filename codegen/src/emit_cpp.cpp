@@ -45,8 +45,12 @@ private:
 
 /// Straight-line code computing `outputs`: returns the statements, and the C++ expression of
 /// each output in `results`.
-std::string body(const Names& names, const std::vector<Expr>& outputs, std::vector<std::string>& results,
+std::string body(const Names& names, const std::vector<Expr>& exprs, std::vector<std::string>& results,
                  bool& uses_t, bool& uses_params) {
+    // Horner form first (common factors out of sums), then CSE: fewer operations than SymPy's
+    // cse on the same system (bench/RESULTS.md).
+    std::vector<Expr> outputs;
+    for (Expr e : exprs) outputs.push_back(cas::horner(e));
     const cas::CseResult r = cas::cse(outputs, {.prefix = "x", .hoist_power_bases = true});
     cas::CppOptions cpp;
     cpp.variable_name = [&](Expr v) { return names.local(v); };

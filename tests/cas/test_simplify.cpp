@@ -88,3 +88,19 @@ TEST_CASE("substitution and free symbols", "[cas][simplify]") {
     CHECK(contains(parse("sin(x*y) + 1"), x * y));
     CHECK_FALSE(contains(parse("sin(x*y) + 1"), parse("z")));
 }
+
+TEST_CASE("horner: common factors out of sums, same value, fewer operations", "[cas][simplify]") {
+    CHECK(horner(parse("a*x + a*y + b*z")) == parse("a*(x + y) + b*z"));
+    CHECK(horner(parse("-l*m1*c - l*m2*c - l*m3*c")) == parse("-l*c*(m1 + m2 + m3)"));
+    CHECK(horner(parse("x^3 + 2*x^2 + 3*x + 4")) == parse("x*(x*(x + 2) + 3) + 4"));
+    const Expr big = expand(parse("(a + b + c)^4"));
+    CHECK(tree_size(horner(big)) < tree_size(big)); // 67 vs 90 nodes
+    check_property("horner keeps the value", [] {
+        const Expr e = expand(*phynjo::test::gen_expr(3));
+        const auto v = value_at(e);
+        RC_PRE(v.has_value() && std::fabs(*v) < 1e6L);
+        const auto w = value_at(horner(e));
+        RC_ASSERT(w.has_value());
+        RC_ASSERT(std::fabs(*w - *v) <= 1e-9L * (1 + std::fabs(*v)));
+    }, {.cases = 500});
+}

@@ -22,6 +22,12 @@ Expr expand(Expr e);
 /// `simplify(simplify(e)) == simplify(e)`.
 Expr simplify(Expr e);
 
+/// Greedy multivariate Horner form, for evaluation: in every sum, the factor shared by the
+/// most terms is pulled out (a·x + a·y + b·z → a·(x + y) + b·z), repeatedly and bottom-up.
+/// The value is unchanged; the operation count usually drops a lot. Deterministic (ties go
+/// to the canonical order).
+Expr horner(Expr e);
+
 /// Replaces every occurrence of each key (any subexpression, matched structurally) by its
 /// value, bottom-up, re-canonicalizing.
 Expr subs(Expr e, const std::unordered_map<Expr, Expr>& replacements);
