@@ -22,8 +22,9 @@ int main(int argc, char** argv) {
     std::vector<cas::Expr> all;
     const std::size_t n = eom->dof;
     for (std::size_t i = 0; i < n; ++i)
-        for (std::size_t j = i; j < n; ++j) all.push_back(cas::horner(eom->mass_matrix[i * n + j]));
-    for (auto f : eom->forcing) all.push_back(cas::horner(f));
+        for (std::size_t j = i; j < n; ++j) all.push_back(eom->mass_matrix[i * n + j]);
+    all.insert(all.end(), eom->forcing.begin(), eom->forcing.end());
+    all = cas::horner(all); // as the emitter does
     const auto r = cas::cse(all, {.prefix = "x", .hoist_power_bases = true});
     std::ofstream out(argv[2]);
     for (const auto& [t, v] : r.assignments) out << cas::to_string(t) << " = " << cas::to_string(v) << "\n";

@@ -186,6 +186,8 @@ Expr expand(Expr e) {
     return map_bottom_up(e, memo, [](Expr x) { return expand_node(x); });
 }
 
+Expr trig_simplify_only(Expr e) { return trig_simplify(e); }
+
 Expr simplify(Expr e) {
     for (int iteration = 0; iteration < 64; ++iteration) {
         Expr best = trig_simplify(e);
@@ -239,14 +241,10 @@ Expr horner_terms(std::vector<HTerm> terms) {
         return from_hterm(terms[0]);
     }
     // the atom in the most terms (ties: canonical order)
-    std::vector<std::pair<Expr, int>> counts;
+    std::unordered_map<Expr, int> counts;
     for (const HTerm& t : terms)
-        for (const auto& [a, m] : t.atoms) {
-            auto it = std::find_if(counts.begin(), counts.end(), [&](auto& c) { return c.first == a; });
-            if (it == counts.end()) counts.emplace_back(a, 1);
-            else ++it->second;
-        }
-    const std::pair<Expr, int>* best = nullptr;
+        for (const auto& [a, m] : t.atoms) ++counts[a];
+    const std::pair<const Expr, int>* best = nullptr;
     for (const auto& c : counts)
         if (c.second >= 2 && (!best || c.second > best->second ||
                               (c.second == best->second && compare(c.first, best->first) < 0)))
@@ -273,16 +271,21 @@ Expr horner_terms(std::vector<HTerm> terms) {
 
 } // namespace
 
-Expr horner(Expr e) {
+std::vector<Expr> horner(std::span<const Expr> es) {
     std::unordered_map<const Node*, Expr> memo;
-    return map_bottom_up(e, memo, [](Expr x) {
+    auto step = [](Expr x) {
         if (x.kind() != Kind::Add) return x;
         std::vector<HTerm> terms;
         for (std::uint32_t i = 0; i < x->nargs; ++i) terms.push_back(to_hterm(x->coefs[i], x.args()[i]));
         if (!x->number.is_zero()) terms.push_back(HTerm{x->number, {}});
         return horner_terms(std::move(terms));
-    });
+    };
+    std::vector<Expr> out;
+    for (Expr e : es) out.push_back(map_bottom_up(e, memo, step));
+    return out;
 }
+
+Expr horner(Expr e) { return horner(std::span<const Expr>(&e, 1))[0]; }
 
 Expr subs(Expr e, const std::unordered_map<Expr, Expr>& replacements) {
     if (replacements.empty()) return e;

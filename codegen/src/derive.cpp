@@ -11,11 +11,12 @@ namespace {
 
 using cas::Expr;
 
-/// simplify() when the expression is small enough for expansion to pay off; the canonical
-/// form otherwise (expansion of large sums can blow up).
+/// simplify() (expansion, sin²+cos² = 1) for small expressions, where it makes the
+/// printed equations readable; for large ones only the sin²+cos² rule on the form as
+/// derived (expansion costs much and does not pay: the emitter factors sums anyway).
 Expr tidy(Expr e) {
-    if (cas::tree_size(e) > 4000) return e;
-    return cas::simplify(e);
+    if (cas::tree_size(e) <= 300) return cas::simplify(e);
+    return cas::trig_simplify_only(e);
 }
 
 /// The first coordinate whose column of M is linearly dependent on the earlier ones at

@@ -45,12 +45,9 @@ private:
 
 /// Straight-line code computing `outputs`: returns the statements, and the C++ expression of
 /// each output in `results`.
-std::string body(const Names& names, const std::vector<Expr>& exprs, std::vector<std::string>& results,
+/// `outputs` are already in Horner form (emit_cpp converts every expression once).
+std::string body(const Names& names, const std::vector<Expr>& outputs, std::vector<std::string>& results,
                  bool& uses_t, bool& uses_params) {
-    // Horner form first (common factors out of sums), then CSE: fewer operations than SymPy's
-    // cse on the same system (bench/RESULTS.md).
-    std::vector<Expr> outputs;
-    for (Expr e : exprs) outputs.push_back(cas::horner(e));
     const cas::CseResult r = cas::cse(outputs, {.prefix = "x", .hoist_power_bases = true});
     cas::CppOptions cpp;
     cpp.variable_name = [&](Expr v) { return names.local(v); };
@@ -86,8 +83,22 @@ std::string unused(bool uses_t, bool uses_params, bool has_t = true) {
 
 } // namespace
 
-EmittedCpp emit_cpp(const Model& m, const EquationsOfMotion& eom, const EmitOptions& options) {
+EmittedCpp emit_cpp(const Model& m, const EquationsOfMotion& raw, const EmitOptions& options) {
     const std::size_t n = m.dof();
+    // Horner form (common factors out of sums) of everything, in one pass that shares the
+    // work on common subexpressions; each function body is then CSE'd. Together: fewer
+    // operations than SymPy's cse on the same system (bench/RESULTS.md).
+    EquationsOfMotion eom = raw;
+    {
+        std::vector<Expr> all = eom.mass_matrix;
+        for (auto* v : {&eom.forcing, &eom.momenta, &eom.generalized_forces}) all.insert(all.end(), v->begin(), v->end());
+        all.push_back(eom.energy);
+        const auto h = cas::horner(all);
+        std::size_t k = 0;
+        for (auto* v : {&eom.mass_matrix, &eom.forcing, &eom.momenta, &eom.generalized_forces})
+            for (Expr& e : *v) e = h[k++];
+        eom.energy = h[k];
+    }
     const std::string N = std::to_string(n);
     const Names names(m);
     EmittedCpp out;

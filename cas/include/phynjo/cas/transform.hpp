@@ -22,11 +22,16 @@ Expr expand(Expr e);
 /// `simplify(simplify(e)) == simplify(e)`.
 Expr simplify(Expr e);
 
+/// Only the sin²+cos² rule of simplify, on the expression as given (no expansion): cheap.
+Expr trig_simplify_only(Expr e);
+
 /// Greedy multivariate Horner form, for evaluation: in every sum, the factor shared by the
 /// most terms is pulled out (a·x + a·y + b·z → a·(x + y) + b·z), repeatedly and bottom-up.
 /// The value is unchanged; the operation count usually drops a lot. Deterministic (ties go
 /// to the canonical order).
 Expr horner(Expr e);
+/// horner() of each, sharing the work on common subexpressions.
+std::vector<Expr> horner(std::span<const Expr> es);
 
 /// Replaces every occurrence of each key (any subexpression, matched structurally) by its
 /// value, bottom-up, re-canonicalizing.
