@@ -17,8 +17,7 @@ T number_value(Expr x) {
 }
 
 template <typename T>
-T evaluate_impl(Expr e, const Bindings<T>& values) {
-    std::unordered_map<const Node*, T> memo;
+T evaluate_impl(Expr e, const Bindings<T>& values, std::unordered_map<const Node*, T>& memo) {
     auto rec = [&](auto&& self, Expr x) -> T {
         if (auto it = memo.find(x.get()); it != memo.end()) return it->second;
         T r{};
@@ -79,7 +78,20 @@ T evaluate_impl(Expr e, const Bindings<T>& values) {
 
 } // namespace
 
-double evaluate(Expr e, const Bindings<double>& values) { return evaluate_impl<double>(e, values); }
-long double evaluate_extended(Expr e, const Bindings<long double>& values) { return evaluate_impl<long double>(e, values); }
+double evaluate(Expr e, const Bindings<double>& values) {
+    std::unordered_map<const Node*, double> memo;
+    return evaluate_impl<double>(e, values, memo);
+}
+std::vector<double> evaluate(std::span<const Expr> es, const Bindings<double>& values) {
+    std::unordered_map<const Node*, double> memo;
+    std::vector<double> out;
+    out.reserve(es.size());
+    for (Expr e : es) out.push_back(evaluate_impl<double>(e, values, memo));
+    return out;
+}
+long double evaluate_extended(Expr e, const Bindings<long double>& values) {
+    std::unordered_map<const Node*, long double> memo;
+    return evaluate_impl<long double>(e, values, memo);
+}
 
 } // namespace phynjo::cas

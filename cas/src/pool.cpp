@@ -64,7 +64,7 @@ std::uint64_t hash_of(const NodeKey& k) noexcept {
     return h;
 }
 
-PoolImpl::PoolImpl(std::uint32_t id_) : id(id_) { table.assign(1024, nullptr); }
+PoolImpl::PoolImpl(std::uint32_t id_) : id(id_) { table.assign(1 << 14, nullptr); }
 
 PoolImpl::~PoolImpl() {
     for (mpq_class* q : big_numbers) q->~mpq_class();

@@ -3,6 +3,8 @@
 #include "phynjo/cas/diff.hpp"
 #include "phynjo/cas/errors.hpp"
 
+#include <boost/container/small_vector.hpp>
+
 #include <algorithm>
 #include <string>
 #include <unordered_set>
@@ -209,7 +211,7 @@ namespace {
 /// powers; any other factor is an atom of multiplicity 1).
 struct HTerm {
     Expr coef;
-    std::vector<std::pair<Expr, long>> atoms; // sorted by canonical order of the atom
+    boost::container::small_vector<std::pair<Expr, long>, 6> atoms; // sorted by canonical order of the atom
 };
 
 HTerm to_hterm(Expr coef, Expr rest) {
@@ -240,21 +242,32 @@ Expr horner_terms(std::vector<HTerm> terms) {
         if (terms.empty()) return Expr(0);
         return from_hterm(terms[0]);
     }
-    // the atom in the most terms (ties: canonical order)
-    std::unordered_map<Expr, int> counts;
+    // the atom in the most terms (ties: canonical order): sort the atoms of all terms by
+    // node address, count runs
+    boost::container::small_vector<const Node*, 64> all;
     for (const HTerm& t : terms)
-        for (const auto& [a, m] : t.atoms) ++counts[a];
-    const std::pair<const Expr, int>* best = nullptr;
-    for (const auto& c : counts)
-        if (c.second >= 2 && (!best || c.second > best->second ||
-                              (c.second == best->second && compare(c.first, best->first) < 0)))
-            best = &c;
+        for (const auto& [a, m] : t.atoms) all.push_back(a.get());
+    std::sort(all.begin(), all.end());
+    Expr best_atom;
+    int best_count = 1;
+    for (std::size_t i = 0; i < all.size();) {
+        std::size_t j = i + 1;
+        while (j < all.size() && all[j] == all[i]) ++j;
+        const int c = static_cast<int>(j - i);
+        const Expr a(all[i]);
+        if (c > best_count || (c == best_count && c >= 2 && compare(a, best_atom) < 0)) {
+            best_count = c;
+            best_atom = a;
+        }
+        i = j;
+    }
+    const Expr* best = best_atom.is_null() ? nullptr : &best_atom;
     if (!best) {
         std::vector<Expr> all;
         for (const HTerm& t : terms) all.push_back(from_hterm(t));
         return add(all);
     }
-    const Expr atom = best->first;
+    const Expr atom = *best;
     std::vector<HTerm> with, without;
     for (HTerm& t : terms) {
         auto it = std::find_if(t.atoms.begin(), t.atoms.end(), [&](auto& p) { return p.first == atom; });

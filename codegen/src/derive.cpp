@@ -15,7 +15,7 @@ using cas::Expr;
 /// printed equations readable; for large ones only the sin²+cos² rule on the form as
 /// derived (expansion costs much and does not pay: the emitter factors sums anyway).
 Expr tidy(Expr e) {
-    if (cas::tree_size(e) <= 300) return cas::simplify(e);
+    if (cas::tree_size(e) <= 150) return cas::simplify(e);
     return cas::trig_simplify_only(e);
 }
 
@@ -34,9 +34,9 @@ std::optional<std::size_t> identically_singular(const Model& model, const std::v
         }
         for (const auto& p : model.parameters) at[p.symbol] = positive(rng);
         at[cas::time_symbol()] = positive(rng);
-        std::vector<double> A(n * n);
+        std::vector<double> A;
         try {
-            for (std::size_t k = 0; k < n * n; ++k) A[k] = cas::evaluate(M[k], at);
+            A = cas::evaluate(M, at);
         } catch (const cas::Error&) {
             return std::nullopt; // cannot tell here; the runtime check reports it
         }

@@ -3,7 +3,9 @@
 /// Numeric evaluation.
 #include "phynjo/cas/expr.hpp"
 
+#include <span>
 #include <unordered_map>
+#include <vector>
 
 namespace phynjo::cas {
 
@@ -15,6 +17,10 @@ using Bindings = std::unordered_map<Expr, T>;
 /// correctly rounded to T first. Throws EvaluationError naming a variable without a value,
 /// or when the result (or an intermediate) is not finite.
 double evaluate(Expr e, const Bindings<double>& values);
+/// The values of several expressions at the same point, sharing the work on common
+/// subexpressions.
+std::vector<double> evaluate(std::span<const Expr> es, const Bindings<double>& values);
+
 /// The same in long double (64-bit significand), for reference values in tests.
 long double evaluate_extended(Expr e, const Bindings<long double>& values);
 

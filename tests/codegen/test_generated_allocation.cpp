@@ -1,0 +1,44 @@
+// Generated functions never allocate (generated-api.md): a counting global allocator.
+#include "double_pendulum.hpp"
+#include "nlink_cart_5.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <atomic>
+#include <cmath>
+#include <cstdlib>
+#include <new>
+#include <vector>
+
+namespace {
+std::atomic<long> allocations{0};
+}
+void* operator new(std::size_t n) {
+    allocations.fetch_add(1, std::memory_order_relaxed);
+    if (void* p = std::malloc(n ? n : 1)) return p;
+    throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+
+TEST_CASE("generated functions do not allocate", "[codegen][allocation]") {
+    const double_pendulum::Parameters P;
+    const nlink_cart_5::Parameters Q;
+    std::vector<double> q{0.3, -0.2}, v{0.1, 0.4}, out(2), M(4);
+    std::vector<double> q6(6, 0.1), v6(6, 0.2), o6(6), M6(36);
+    const long before = allocations.load();
+    double e = 0;
+    for (int k = 0; k < 100; ++k) {
+        double_pendulum::accelerations(P, 0, q, v, out);
+        double_pendulum::mass_matrix(P, 0, q, M);
+        double_pendulum::forcing(P, 0, q, v, out);
+        double_pendulum::momenta(P, 0, q, v, out);
+        double_pendulum::generalized_forces(P, 0, q, v, out);
+        e += double_pendulum::energy(P, 0, q, v);
+        double_pendulum::initial_state(P, q, v);
+        nlink_cart_5::accelerations(Q, 0, q6, v6, o6);
+        nlink_cart_5::mass_matrix(Q, 0, q6, M6);
+    }
+    CHECK(allocations.load() - before == 0);
+    CHECK(std::isfinite(e));
+}
