@@ -7,6 +7,8 @@
 // Prints `ratio lagc_compile_N = SymPy time / phynjo time` and `ratio lagc_ops_N = SymPy
 // operations / phynjo operations` (above 1: phynjo emits fewer).
 //   usage: bench_lagc [--sympy-max-n N]   (default 20)
+#include <spawn.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -14,6 +16,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <vector>
+
+extern char** environ;
 
 namespace {
 
@@ -22,10 +27,18 @@ std::string models(int n) {
                   : std::string(PHYNJO_SOURCE_DIR "/bench/nlink_cart_") + std::to_string(n) + ".lag";
 }
 
-double run_seconds(const std::string& cmd) {
+/// Wall time of one run of `argv` (no shell in between: only the process itself is timed).
+double run_seconds(std::vector<std::string> args) {
+    std::vector<char*> argv;
+    for (auto& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
     const auto t0 = std::chrono::steady_clock::now();
-    if (std::system(cmd.c_str()) != 0) return -1;
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    pid_t pid;
+    if (posix_spawn(&pid, argv[0], nullptr, nullptr, argv.data(), environ) != 0) return -1;
+    int status = 0;
+    waitpid(pid, &status, 0);
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return WIFEXITED(status) && WEXITSTATUS(status) == 0 ? s : -1;
 }
 
 /// Runs a command and returns the number after `key` in its output, or −1.
@@ -54,7 +67,7 @@ int main(int argc, char** argv) {
         const std::string model = models(n);
         double best = 1e300;
         for (int rep = 0; rep < (n <= 20 ? 7 : 3); ++rep)
-            best = std::min(best, run_seconds(std::string(PHYNJO_LAGC) + " '" + model + "' -o " + tmp + ".cpp"));
+            best = std::min(best, run_seconds({PHYNJO_LAGC, model, "-o", tmp + ".cpp"}));
         std::printf("N = %d\n    phynjo-lagc: %.4f s (best of %d runs, process end to end)\n", n, best, n <= 20 ? 7 : 3);
         const std::string ops_file = tmp + "_ops.txt";
         std::system((std::string(PHYNJO_NLINK_OPS) + " '" + model + "' " + ops_file).c_str());

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <numeric>
 #include <unordered_set>
 
 namespace phynjo::cas {
@@ -177,6 +178,26 @@ std::pair<Expr, Expr> split_term(Expr x) {
 /// canonical order) has a positive coefficient. Products keep only primitive sums as
 /// factors; that is what makes mul associative while c·(a+b) still distributes.
 std::pair<Expr, Expr> primitive_part(Expr s) {
+    // fast path: integer coefficients that fit a machine word (the common case)
+    {
+        std::int64_t g = 0;
+        bool small = true;
+        auto take = [&](Expr c) {
+            if (!c->small) small = false;
+            else g = std::gcd(g, c->small_value < 0 ? -c->small_value : c->small_value);
+        };
+        for (std::uint32_t i = 0; i < s->nargs && small; ++i) take(s->coefs[i]);
+        if (small && !s->number.is_zero()) take(s->number);
+        if (small) {
+            const bool negate = detail::num_sign(s->coefs[0]) < 0;
+            if (g == 1 && !negate) return {make_int(1), s};
+            const std::int64_t content = negate ? -g : g;
+            std::vector<Expr> coefs(s->nargs);
+            for (std::uint32_t i = 0; i < s->nargs; ++i) coefs[i] = make_int(s->coefs[i]->small_value / content);
+            const Expr constant = make_int(s->number->small_value / content);
+            return {make_int(content), make_add_node(constant, s.args(), coefs)};
+        }
+    }
     mpz_class g = 0, l = 1;
     auto take = [&](Expr c) {
         const mpq_class& v = c.value();

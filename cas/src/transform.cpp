@@ -244,17 +244,17 @@ Expr horner_terms(std::vector<HTerm> terms) {
     }
     // the atom in the most terms (ties: canonical order): sort the atoms of all terms by
     // node address, count runs
-    boost::container::small_vector<const Node*, 64> all;
+    boost::container::small_vector<const Node*, 64> atoms;
     for (const HTerm& t : terms)
-        for (const auto& [a, m] : t.atoms) all.push_back(a.get());
-    std::sort(all.begin(), all.end());
+        for (const auto& [a, m] : t.atoms) atoms.push_back(a.get());
+    std::sort(atoms.begin(), atoms.end());
     Expr best_atom;
     int best_count = 1;
-    for (std::size_t i = 0; i < all.size();) {
+    for (std::size_t i = 0; i < atoms.size();) {
         std::size_t j = i + 1;
-        while (j < all.size() && all[j] == all[i]) ++j;
+        while (j < atoms.size() && atoms[j] == atoms[i]) ++j;
         const int c = static_cast<int>(j - i);
-        const Expr a(all[i]);
+        const Expr a(atoms[i]);
         if (c > best_count || (c == best_count && c >= 2 && compare(a, best_atom) < 0)) {
             best_count = c;
             best_atom = a;
@@ -323,9 +323,9 @@ Expr subs(Expr e, const std::unordered_map<Expr, Expr>& replacements) {
 
 namespace {
 template <typename Keep>
-std::vector<Expr> collect_atoms(Expr e, Keep&& keep, bool into_derivatives) {
+std::vector<Expr> collect_atoms(std::span<const Expr> es, Keep&& keep, bool into_derivatives) {
     std::unordered_set<const Node*> seen;
-    std::vector<Expr> stack{e}, out;
+    std::vector<Expr> stack(es.begin(), es.end()), out;
     while (!stack.empty()) {
         Expr x = stack.back();
         stack.pop_back();
@@ -343,11 +343,12 @@ std::vector<Expr> collect_atoms(Expr e, Keep&& keep, bool into_derivatives) {
 } // namespace
 
 std::vector<Expr> free_symbols(Expr e) {
-    return collect_atoms(e, [](Expr x) { return x.kind() == Kind::Symbol; }, true);
+    return collect_atoms(std::span<const Expr>(&e, 1), [](Expr x) { return x.kind() == Kind::Symbol; }, true);
 }
-std::vector<Expr> free_variables(Expr e) {
-    return collect_atoms(e, [](Expr x) { return x.is_atom_variable(); }, false);
+std::vector<Expr> free_variables(std::span<const Expr> es) {
+    return collect_atoms(es, [](Expr x) { return x.is_atom_variable(); }, false);
 }
+std::vector<Expr> free_variables(Expr e) { return free_variables(std::span<const Expr>(&e, 1)); }
 
 bool contains(Expr e, Expr x) {
     if (x.is_atom_variable() && (e->atom_mask & x->atom_mask) == 0) return false;

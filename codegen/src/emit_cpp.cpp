@@ -55,9 +55,8 @@ std::string body(const Names& names, const std::vector<Expr>& outputs, std::vect
     std::vector<Expr> all = r.outputs;
     for (const auto& [t, v] : r.assignments) all.push_back(v);
     std::map<std::string, Expr> used;
-    for (Expr e : all)
-        for (Expr v : cas::free_variables(e))
-            if (names.is_user(v)) used.emplace(names.local(v), v);
+    for (Expr v : cas::free_variables(all))
+        if (names.is_user(v)) used.emplace(names.local(v), v);
     std::string s;
     uses_t = false;
     uses_params = false;

@@ -42,6 +42,8 @@ std::vector<Expr> free_symbols(Expr e);
 /// The variables in `e`: symbols and time derivatives (x' alone does not make x a variable
 /// of e), sorted by name then order.
 std::vector<Expr> free_variables(Expr e);
+/// The variables of several expressions together (one traversal).
+std::vector<Expr> free_variables(std::span<const Expr> es);
 /// True if `e` contains `x` (structurally).
 bool contains(Expr e, Expr x);
 
