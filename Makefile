@@ -5,7 +5,7 @@ BUILD_TYPE ?= Release
 JOBS       ?= $(shell nproc 2>/dev/null || echo 2)
 CMAKE_ARGS ?=
 
-.PHONY: all deps configure build test demo bench install clean
+.PHONY: all deps configure build test test-sanitize fuzz demo bench install clean
 
 all: build
 
@@ -23,6 +23,29 @@ build: configure
 test: build
 	ctest --test-dir $(BUILD) --output-on-failure -j $(JOBS)
 
+# The whole test suite again under AddressSanitizer + UndefinedBehaviorSanitizer (GCC's);
+# any report fails the run.
+test-sanitize: deps
+	cmake -S . -B $(BUILD)-sanitize -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPHYNJO_SANITIZE=ON $(CMAKE_ARGS)
+	cmake --build $(BUILD)-sanitize -j $(JOBS)
+	ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1 \
+	UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+	ctest --test-dir $(BUILD)-sanitize --output-on-failure -j $(JOBS)
+
+# libFuzzer (clang) on the expression parser, the .lag front end and the CAS passes, each for
+# FUZZ_SECONDS; inputs the fuzzers keep are written to fuzz/corpus/ (commit them: the
+# corpus replays as ordinary tests).
+FUZZ_SECONDS ?= 600
+fuzz: deps
+	PHYNJO_FUZZ_DEPS=1 scripts/install-deps
+	CC=clang CXX=clang++ cmake -S . -B $(BUILD)-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPHYNJO_SANITIZE=ON \
+	  -DPHYNJO_FUZZ=ON -DPHYNJO_BUILD_TESTS=OFF $(CMAKE_ARGS)
+	cmake --build $(BUILD)-fuzz -j $(JOBS) --target fuzz_expression fuzz_lag fuzz_cas
+	for t in expression lag cas; do \
+	  $(BUILD)-fuzz/fuzz/fuzz_$$t -max_total_time=$(FUZZ_SECONDS) -timeout=10 -rss_limit_mb=2048 \
+	    -max_len=4096 -print_final_stats=1 fuzz/corpus/$$t || exit 1; \
+	done
+
 demo: build
 	@scripts/demo $(BUILD)
 
@@ -35,4 +58,4 @@ install: build
 	cmake --install $(BUILD) $(if $(PREFIX),--prefix $(PREFIX),)
 
 clean:
-	rm -rf $(BUILD) $(BUILD)-bench demo-output
+	rm -rf $(BUILD) $(BUILD)-bench $(BUILD)-sanitize $(BUILD)-fuzz demo-output

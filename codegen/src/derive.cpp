@@ -72,7 +72,7 @@ std::optional<std::size_t> identically_singular(const Model& model, const std::v
 
 } // namespace
 
-std::optional<EquationsOfMotion> derive(const Model& model, grammar::DiagnosticSink& sink) {
+std::optional<EquationsOfMotion> derive(const Model& model, grammar::DiagnosticSink& sink, const DeriveLimits& limits) {
     const std::size_t n = model.dof();
     const auto q = model.coordinate_symbols();
     std::vector<Expr> qd(n);
@@ -117,6 +117,15 @@ std::optional<EquationsOfMotion> derive(const Model& model, grammar::DiagnosticS
     for (std::size_t i = 0; i < n; ++i) e_terms.push_back(qd[i] * raw_p[i]);
     e_terms.push_back(-L);
     eom.energy = tidy(cas::add(e_terms));
+    std::vector<Expr> all = eom.mass_matrix;
+    for (auto* v : {&eom.forcing, &eom.momenta, &eom.generalized_forces}) all.insert(all.end(), v->begin(), v->end());
+    all.push_back(eom.energy);
+    if (const std::size_t nodes = cas::dag_size(all); nodes > limits.max_nodes) {
+        sink.error(model.lagrangian_where.offset, model.lagrangian_where.length,
+                   "the equations of motion are too large: " + std::to_string(nodes) +
+                       " distinct subexpressions (the limit is " + std::to_string(limits.max_nodes) + ")");
+        return std::nullopt;
+    }
     return eom;
 }
 

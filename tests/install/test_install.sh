@@ -9,7 +9,7 @@ test -x "$work/prefix/bin/phynjo-cas"
 "$work/prefix/bin/phynjo-cas" simplify "sin(x)^2 + cos(x)^2" | grep -qx 1
 launcher=(); command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
 cmake -S "$src/tests/install/consumer" -B "$work/consumer" -DCMAKE_PREFIX_PATH="$work/prefix" \
-      -DCMAKE_BUILD_TYPE=Release "${launcher[@]}" >/dev/null
+      -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS="${PHYNJO_CONSUMER_CXX_FLAGS:-}" "${launcher[@]}" >/dev/null
 cmake --build "$work/consumer" >/dev/null
 "$work/consumer/consumer"
 "$work/consumer/app"

@@ -7,6 +7,7 @@
 #include "phynjo/codegen/equations.hpp"
 #include "phynjo/codegen/frontend.hpp"
 
+#include <cstdlib>
 #include <fstream>
 #include <iostream>
 #include <iterator>
@@ -30,7 +31,13 @@ options:
   --emit=KIND    cpp (default), eom (M and f in the input syntax), latex (a LaTeX document)
   --main         add a main() that simulates from the initial state and writes CSV
                  (t, q..., q'..., E); run it with --help for its options
+  --max-nodes=N  limit on the size of the derived equations, in distinct subexpressions
+                 (default 5000000)
+  --max-output=N limit on the size of the generated code, in bytes (default 268435456)
   --help, --version
+
+Other limits, fixed: files up to 16 MiB, nesting depth 200, numbers up to 100000 bits
+(literals: 10000 digits, exponents within +-10000), time derivatives up to order 16.
 
 exit status: 0 ok, 1 the model has errors, 2 usage error
 )";
@@ -65,6 +72,8 @@ int main(int argc, char** argv) {
     using namespace phynjo;
     std::string input, output, emit = "cpp";
     bool with_main = false;
+    codegen::DeriveLimits derive_limits;
+    std::size_t max_output = 256u << 20;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "--help" || a == "-h") {
@@ -82,6 +91,13 @@ int main(int argc, char** argv) {
             emit = a.substr(7);
             if (emit != "cpp" && emit != "eom" && emit != "latex") return usage_error("unknown --emit kind '" + emit + "'");
         } else if (a == "--main") with_main = true;
+        else if (a.rfind("--max-nodes=", 0) == 0 || a.rfind("--max-output=", 0) == 0) {
+            const std::string v = a.substr(a.find('=') + 1);
+            char* end = nullptr;
+            const unsigned long long n = std::strtoull(v.c_str(), &end, 10);
+            if (v.empty() || *end != '\0' || n == 0) return usage_error("bad value in '" + a + "'");
+            (a[6] == 'n' ? derive_limits.max_nodes : max_output) = static_cast<std::size_t>(n);
+        }
         else if (!a.empty() && a[0] == '-' && a != "-") return usage_error("unknown option '" + a + "'");
         else if (input.empty()) input = a;
         else return usage_error("more than one model file");
@@ -99,7 +115,7 @@ int main(int argc, char** argv) {
     try {
         auto model = codegen::read_model(text, input, sink);
         std::optional<codegen::EquationsOfMotion> eom;
-        if (model) eom = codegen::derive(*model, sink);
+        if (model) eom = codegen::derive(*model, sink, derive_limits);
         if (!model || !eom) {
             std::cerr << sink.format_all();
             return 1;
@@ -116,6 +132,13 @@ int main(int argc, char** argv) {
         header_path += ".hpp";
         const std::string header_name = header_path.substr(header_path.find_last_of('/') + 1);
         const auto code = codegen::emit_cpp(*model, *eom, {.header_name = header_name, .main = with_main});
+        if (const std::size_t bytes = code.header.size() + code.source.size(); bytes > max_output) {
+            sink.error(model->lagrangian_where.offset, model->lagrangian_where.length,
+                       "the generated code would be " + std::to_string(bytes) + " bytes (the limit is " +
+                           std::to_string(max_output) + ")");
+            std::cerr << sink.format_all();
+            return 1;
+        }
         if (!write_file(header_path, code.header) || !write_file(output, code.source)) return 1;
     } catch (const std::exception& e) {
         std::cerr << sink.format_all() << input << ": error: " << e.what() << "\n";

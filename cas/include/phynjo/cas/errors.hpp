@@ -38,7 +38,7 @@ namespace limits {
 /// denominator (about 30,000 decimal digits).
 inline constexpr std::size_t max_number_bits = 100'000;
 /// Most terms `expand` may produce for one expression.
-inline constexpr std::size_t max_expand_terms = 1'000'000;
+inline constexpr std::size_t max_expand_terms = 100'000;
 /// Highest time-derivative order of a symbol (`x''…'`).
 inline constexpr int max_derivative_order = 16;
 } // namespace limits

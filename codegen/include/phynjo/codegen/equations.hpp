@@ -24,9 +24,16 @@ struct EquationsOfMotion {
     std::vector<cas::Expr> generalized_forces;
 };
 
+/// Documented limits of the derivation.
+struct DeriveLimits {
+    /// Most distinct subexpressions (DAG nodes) of M, f, p and E together.
+    std::size_t max_nodes = 5'000'000;
+};
+
 /// Derives the equations of motion. Reports, at the coordinate, a mass matrix that is
 /// singular for every q, t and parameter values (for example a coordinate whose velocity
-/// does not appear in L) and returns nothing then.
-std::optional<EquationsOfMotion> derive(const Model& model, grammar::DiagnosticSink& sink);
+/// does not appear in L), and, at the lagrangian statement, equations larger than
+/// `limits.max_nodes`; returns nothing then.
+std::optional<EquationsOfMotion> derive(const Model& model, grammar::DiagnosticSink& sink, const DeriveLimits& limits = {});
 
 } // namespace phynjo::codegen

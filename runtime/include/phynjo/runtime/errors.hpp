@@ -37,6 +37,13 @@ public:
     using Error::Error;
 };
 
+/// A body that cannot exist: non-positive or non-finite mass, and (rigid bodies) a
+/// non-unit quaternion or an inertia tensor that is not positive definite.
+class InvalidBody : public Error {
+public:
+    using Error::Error;
+};
+
 /// A field name that the world does not have.
 class UnknownField : public Error {
 public:

@@ -48,11 +48,21 @@ private:
     Process<World> process_;
 };
 
+/// Why a guarded run stopped (the runtime never aborts a simulation: it says why it ended).
+struct RunReport {
+    bool completed = true;      ///< all requested steps were taken
+    std::size_t steps = 0;      ///< steps completed
+    std::uint64_t tick = 0;     ///< world.tick when it stopped
+    double time = 0;            ///< world.time when it stopped, s
+    std::string reason;         ///< empty when completed
+    std::string where;          ///< `field:component` of the first non-finite entry, if that was the reason
+};
+
 /// Steps a world with a workflow: the built form of the seed's `step :: Δt -> world -> world`.
 class Stepper {
 public:
     explicit Stepper(const NumericWorkflow& workflow, Executor* executor = nullptr)
-        : interpreter_(workflow.process(), executor) {}
+        : interpreter_(workflow.process(), executor), writes_(workflow.domain()) {}
     /// world ← workflow(dt, world); allocates nothing.
     void step(World& world, double dt) { interpreter_.step(world, dt); }
     /// `steps` steps of size dt.
@@ -61,8 +71,16 @@ public:
     }
     void set_checked(bool on) noexcept { interpreter_.set_checked(on); }
 
+    /// Like run(), but never throws and never lets NaN or infinity through unnoticed: after
+    /// every step the entries the workflow writes are checked; the run stops at the first
+    /// non-finite entry, or at the first exception a rule throws, and the report says which
+    /// entry, at which tick, or what the rule said. On a stop the world holds the state the
+    /// failing step produced (for inspection).
+    RunReport run_guarded(World& world, double dt, std::size_t steps);
+
 private:
     Interpreter<World> interpreter_;
+    Domain writes_;
 };
 
 // ---- NState: 1-D point masses (positions q, momenta p, masses m) ----------------------------
@@ -72,7 +90,8 @@ inline constexpr FieldId kQ = 0, kP = 1, kM = 2;
 
 /// A 1-D world of point masses: fields q (m), p (kg·m/s) and m (kg) for every component of
 /// `components`, with the given masses (all 1 kg when `masses` is empty), then the
-/// `extra_fields` (for example the stage storage of rk4: rk4_fields()).
+/// `extra_fields` (for example the stage storage of rk4: rk4_fields()). Throws InvalidBody
+/// for a mass that is not positive and finite, std::invalid_argument for a count mismatch.
 World make_nstate(const Registry& components, const std::vector<double>& masses = {},
                   const std::vector<std::string>& extra_fields = {});
 
