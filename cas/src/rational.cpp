@@ -40,7 +40,9 @@ std::optional<mpq_class> parse_decimal(std::string_view s) {
     const std::size_t nz = mantissa.find_first_not_of('0');
     mantissa = nz == std::string::npos ? "0" : mantissa.substr(nz);
     const long scale = exponent - frac_digits;
-    constexpr long max_digits = 10'000; // ≈ 33,000 bits, under limits::max_number_bits
+    // Every number the CAS holds (at most limits::max_number_bits = 100,000 bits, i.e. 30,103
+    // decimal digits) must be readable back from its printed form.
+    constexpr long max_digits = limits::max_literal_digits;
     if (static_cast<long>(mantissa.size()) > max_digits || scale > max_digits || scale < -max_digits)
         return std::nullopt;
     if (mantissa == "0") return mpq_class(0);

@@ -144,7 +144,7 @@ private:
     Opt number(const ast::Number& n) {
         auto q = cas::parse_decimal(n.text);
         if (!q) {
-            error(n, "number too large (at most 10000 significant digits and a decimal exponent within ±10000)");
+            error(n, "number too large (at most 31000 significant digits, a decimal exponent within ±31000 and 100000 bits)");
             return std::nullopt;
         }
         return cas::number(*q);

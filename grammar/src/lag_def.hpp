@@ -31,7 +31,7 @@ inline const x3::rule<force_stmt_class, ast::ForceStmt> force_stmt = "force stat
 inline const x3::rule<initial_stmt_class, ast::InitialStmt> initial_stmt = "initial statement";
 inline const x3::rule<statement_class, ast::Statement> statement = "statement";
 
-inline const auto binding_def = name >> *x3::char_('\'') >> '=' > expression;
+inline const auto binding_def = (name >> *x3::char_('\'') >> '=') > expression;
 inline const auto model_stmt_def = kw("model") > name;
 inline const auto coordinates_stmt_def = kw("coordinates") > (name % ',');
 inline const auto parameters_stmt_def = kw("parameters") > (binding % ',');

@@ -37,8 +37,8 @@ TEST_CASE("golden diagnostics", "[grammar][diagnostics]") {
         {"(x +\n  * y)", "in.txt:2:3: error: expected an expression, found '*'\n      * y)\n      ^\n"},
         {"\tx +", "in.txt:1:5: error: expected an expression\n    \tx +\n    \t   ^\n"},
         {"sin(x, y)", "in.txt:1:6: error: expected ')', found ','\n    sin(x, y)\n         ^\n"},
-        {"1e5000000", "in.txt:1:1: error: number too large (at most 10000 significant digits and a decimal "
-                      "exponent within ±10000)\n    1e5000000\n    ^~~~~~~~~\n"},
+        {"1e5000000", "in.txt:1:1: error: number too large (at most 31000 significant digits, a "
+                      "decimal exponent within ±31000 and 100000 bits)\n    1e5000000\n    ^~~~~~~~~\n"},
     };
     for (const auto& [input, expected] : cases) {
         INFO("input: " << input);

@@ -37,7 +37,7 @@ options:
   --help, --version
 
 Other limits, fixed: files up to 16 MiB, nesting depth 200, numbers up to 100000 bits
-(literals: 10000 digits, exponents within +-10000), time derivatives up to order 16.
+(literals: 31000 digits, exponents within +-31000), time derivatives up to order 16.
 
 exit status: 0 ok, 1 the model has errors, 2 usage error
 )";

@@ -37,6 +37,10 @@ namespace limits {
 /// Largest exact number made by `pow` or read from a literal, in bits of numerator or
 /// denominator (about 30,000 decimal digits).
 inline constexpr std::size_t max_number_bits = 100'000;
+/// Longest literal: significant digits, and the magnitude of the decimal exponent after the
+/// fraction is folded in. Enough for every number of max_number_bits bits (30,103 digits),
+/// so that printed expressions always read back.
+inline constexpr long max_literal_digits = 31'000;
 /// Most terms `expand` may produce for one expression.
 inline constexpr std::size_t max_expand_terms = 100'000;
 /// Highest time-derivative order of a symbol (`x''…'`).

@@ -12,7 +12,8 @@ namespace phynjo::cas {
 
 /// Reads a decimal literal (`3`, `0.25`, `.5`, `1e-3`, `6.674e-11`) exactly: `9.81` is
 /// 981/100. Returns nothing for malformed text or when the value would need more than
-/// `limits::max_number_bits` bits (exponents beyond ±10,000 or more than 10,000 digits).
+/// `limits::max_number_bits` bits (more than 31,000 significant digits, or a decimal
+/// exponent beyond ±31,000).
 std::optional<mpq_class> parse_decimal(std::string_view text);
 
 /// The double nearest to `q` (ties to even), as a correctly rounding `strtod` would give
