@@ -164,7 +164,9 @@ private:
             return {wrap(base, Prec::Atom, true) + "^{" + ex.s + "}", Prec::Pow};
         }
         Out ex = print(e);
-        return {wrap(base, Prec::Atom) + "^" + wrap(ex, Prec::Atom), Prec::Pow};
+        // ^ is right associative: a power in the exponent needs no parentheses (x^y^z is
+        // x^(y^z)), which keeps printed nesting no deeper than the parsed input
+        return {wrap(base, Prec::Atom) + "^" + wrap(ex, Prec::Pow), Prec::Pow};
     }
 
     int cpp_max_power() const { return cpp_ ? cpp_->max_multiply_power : 8; }

@@ -72,7 +72,24 @@ std::optional<std::size_t> identically_singular(const Model& model, const std::v
 
 } // namespace
 
+namespace {
+std::optional<EquationsOfMotion> derive_impl(const Model& model, grammar::DiagnosticSink& sink, const DeriveLimits& limits);
+}
+
 std::optional<EquationsOfMotion> derive(const Model& model, grammar::DiagnosticSink& sink, const DeriveLimits& limits) {
+    // A mathematical error while differentiating (for example 0^(q'^2), whose derivative
+    // needs log 0) is the model's: report it at the lagrangian, do not throw.
+    try {
+        return derive_impl(model, sink, limits);
+    } catch (const cas::Error& e) {
+        sink.error(model.lagrangian_where.offset, model.lagrangian_where.length,
+                   std::string("cannot derive the equations of motion: ") + e.what());
+        return std::nullopt;
+    }
+}
+
+namespace {
+std::optional<EquationsOfMotion> derive_impl(const Model& model, grammar::DiagnosticSink& sink, const DeriveLimits& limits) {
     const std::size_t n = model.dof();
     const auto q = model.coordinate_symbols();
     std::vector<Expr> qd(n);
@@ -128,5 +145,6 @@ std::optional<EquationsOfMotion> derive(const Model& model, grammar::DiagnosticS
     }
     return eom;
 }
+} // namespace
 
 } // namespace phynjo::codegen

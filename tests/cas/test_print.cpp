@@ -15,7 +15,8 @@ TEST_CASE("infix printing", "[cas][print]") {
     CHECK(to_string(parse("(x+y)^2/z")) == "(x + y)^2/z");
     CHECK(to_string(parse("x^(-2)")) == "1/x^2");
     CHECK(to_string(parse("x^(1/2)")) == "sqrt(x)");
-    CHECK(to_string(parse("x^y^z")) == "x^(y^z)");
+    CHECK(to_string(parse("x^y^z")) == "x^y^z");
+    CHECK(to_string(parse("x^(-y)")) == "x^(-y)");
     CHECK(to_string(parse("(x^y)^z")) == "(x^y)^z");
     CHECK(to_string(parse("(-2)^x")) == "(-2)^x");
     CHECK(to_string(parse("(1/2)^x")) == "(1/2)^x");

@@ -84,6 +84,11 @@ TEST_CASE("hostile input gets a diagnostic, not a crash", "[grammar]") {
     // 10^-10991 printed as a 10,992-digit denominator)
     const cas::Expr tiny = parse("e-1*m1/1e9992/1e999");
     CHECK(parse(cas::to_string(tiny)) == tiny);
+    // a tower of 190 powers prints no deeper than it was written (found by fuzzing)
+    std::string tower190 = "x";
+    for (int i = 0; i < 190; ++i) tower190 += "^y" + std::to_string(i % 3);
+    const cas::Expr t190 = parse(tower190);
+    CHECK(parse(cas::to_string(t190)) == t190);
     const cas::Expr big = cas::pow(cas::Expr(2), cas::Expr(99990)); // just under 100,000 bits
     CHECK(parse(cas::to_string(big)) == big);
     CHECK_THROWS_WITH(parse("2^(10^9)"), Catch::Contains("exact power too large"));
