@@ -13,7 +13,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (size > 4096) return 0;
     using namespace phynjo;
     const std::string_view text(reinterpret_cast<const char*>(data), size);
-    cas::Pool pool;
+    cas::Pool pool; // memory and work bounded per input
+    pool.set_node_limit(200'000);
+    pool.set_work_limit(2'000'000);
     cas::PoolScope scope(pool);
     grammar::DiagnosticSink sink("<fuzz>", text);
     grammar::Positions positions(text);

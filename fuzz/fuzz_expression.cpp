@@ -11,7 +11,9 @@
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     if (size > 8192) return 0;
     const std::string_view text(reinterpret_cast<const char*>(data), size);
-    phynjo::cas::Pool pool; // memory bounded per input
+    phynjo::cas::Pool pool; // memory and work bounded per input
+    pool.set_node_limit(200'000);
+    pool.set_work_limit(2'000'000);
     phynjo::cas::PoolScope scope(pool);
     phynjo::grammar::DiagnosticSink sink("<fuzz>", text);
     phynjo::grammar::Positions positions(text);

@@ -222,6 +222,7 @@ std::pair<Expr, Expr> primitive_part(Expr s) {
 
 Expr add(std::span<const Expr> xs) {
     if (xs.size() == 1) return xs[0];
+    pool().charge(xs.size());
     Expr constant = make_int(0);
     boost::container::small_vector<std::pair<Expr, Expr>, 16> terms; // (rest, coefficient)
     terms.reserve(xs.size() + 4);
@@ -276,6 +277,7 @@ Expr base_of(Expr f) { return f.kind() == Kind::Pow ? f.args()[0] : f; }
 
 Expr mul(std::span<const Expr> xs) {
     if (xs.size() == 1) return xs[0];
+    pool().charge(xs.size());
     Expr coef = make_int(1);
     boost::container::small_vector<Factor, 16> fs;
     fs.reserve(xs.size() + 4);

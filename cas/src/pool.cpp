@@ -3,6 +3,7 @@
 #include <atomic>
 #include <bit>
 #include <cstring>
+#include <string>
 
 namespace phynjo::cas {
 namespace detail {
@@ -131,6 +132,9 @@ const Node* PoolImpl::intern(NodeKey& k) {
         if (equal(k, *n)) return n;
         i = (i + 1) & mask;
     }
+    if (count >= node_limit)
+        throw LimitError("expression too large: more than " + std::to_string(node_limit) +
+                         " distinct subexpressions");
     const Node* n = make(k);
     table[i] = n;
     if (++count * 2 > table.size()) grow();
@@ -157,6 +161,10 @@ std::size_t Pool::bytes() const noexcept {
     return impl_->count * (sizeof(Node) + 2 * sizeof(Expr)) + impl_->table.size() * sizeof(void*);
 }
 std::uint32_t Pool::id() const noexcept { return impl_->id; }
+void Pool::set_node_limit(std::size_t n) noexcept { impl_->node_limit = n; }
+std::size_t Pool::node_limit() const noexcept { return impl_->node_limit; }
+void Pool::set_work_limit(std::uint64_t n) noexcept { impl_->work_limit = n; }
+std::uint64_t Pool::work() const noexcept { return impl_->work; }
 void Pool::clear_memo() noexcept {
     impl_->diff_memo.clear();
     impl_->dt_memo.clear();

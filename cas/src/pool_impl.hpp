@@ -5,6 +5,7 @@
 #include "phynjo/cas/pool.hpp"
 
 #include <cassert>
+#include <string>
 #include <memory_resource>
 #include <unordered_map>
 #include <utility>
@@ -52,6 +53,17 @@ struct PoolImpl {
     std::pmr::monotonic_buffer_resource arena{1 << 16};
     std::vector<const Node*> table; // open addressing, power-of-two capacity, linear probing
     std::size_t count = 0;
+    std::size_t node_limit = limits::max_nodes;
+    std::uint64_t work = 0; ///< terms and factors processed by add and mul
+    std::uint64_t work_limit = limits::max_work;
+
+    /// Counts `n` units of work; throws LimitError past the budget.
+    void charge(std::size_t n) {
+        work += n;
+        if (work > work_limit)
+            throw LimitError("computation too large: more than " + std::to_string(work_limit) +
+                             " terms and factors processed");
+    }
     std::vector<mpq_class*> big_numbers; // destroyed with the pool
 
     static constexpr int small_cache = 64;

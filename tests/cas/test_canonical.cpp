@@ -160,3 +160,34 @@ TEST_CASE("pools are independent arenas", "[cas][canonical]") {
     const Expr outside = symbol("x");
     CHECK(outside->pool_id != pool.id());
 }
+
+TEST_CASE("a pool's node budget turns runaway computations into LimitError", "[cas][canonical]") {
+    Pool pool;
+    pool.set_node_limit(5'000);
+    PoolScope scope(pool);
+    CHECK(pool.node_limit() == 5'000);
+    // a small expression whose expansion has 3,003 terms, each built through products
+    const Expr s = symbol("a") + symbol("b") + symbol("c") + symbol("d") + symbol("e") + symbol("f");
+    CHECK_THROWS_AS(expand(pow(s, Expr(10))), LimitError);
+    CHECK(pool.size() <= 5'000);
+    // existing nodes still resolve (a new one would not), and with a larger budget work goes on
+    CHECK(contains(s, symbol("a")));
+    CHECK_THROWS_AS(symbol("never_made"), LimitError);
+    pool.set_node_limit(1'000'000);
+    CHECK(symbol("x") + symbol("x") == 2 * symbol("x"));
+}
+
+TEST_CASE("a pool's work budget bounds the time of any computation", "[cas][canonical]") {
+    Pool pool;
+    pool.set_work_limit(20'000);
+    PoolScope scope(pool);
+    const Expr s = symbol("a") + symbol("b") + symbol("c") + symbol("d") + symbol("e") + symbol("f");
+    CHECK_THROWS_AS(expand(pow(s, Expr(10))), LimitError);
+    CHECK(pool.work() > 20'000);
+    CHECK(pool.work() < 21'000); // stopped right at the budget, not long after
+    // and without a budget the same expansion completes: 3,003 terms
+    Pool roomy;
+    PoolScope scope2(roomy);
+    const Expr s2 = symbol("a") + symbol("b") + symbol("c") + symbol("d") + symbol("e") + symbol("f");
+    CHECK(expand(pow(s2, Expr(10)))->nargs == 3003);
+}

@@ -10,16 +10,9 @@
 #include <new>
 #include <vector>
 
-namespace {
-std::atomic<long> allocations{0};
-}
-void* operator new(std::size_t n) {
-    allocations.fetch_add(1, std::memory_order_relaxed);
-    if (void* p = std::malloc(n ? n : 1)) return p;
-    throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+#include "counting_allocator.hpp"
+
+using phynjo::test::allocations;
 
 TEST_CASE("generated functions do not allocate", "[codegen][allocation]") {
     const double_pendulum::Parameters P;

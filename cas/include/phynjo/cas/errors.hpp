@@ -2,6 +2,7 @@
 /// \file
 /// Typed exceptions for mistakes in what users give the CAS (the second tier of errors:
 /// our own invariants are assertions).
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 
@@ -43,6 +44,14 @@ inline constexpr std::size_t max_number_bits = 100'000;
 inline constexpr long max_literal_digits = 31'000;
 /// Most terms `expand` may produce for one expression.
 inline constexpr std::size_t max_expand_terms = 100'000;
+/// Most distinct nodes one Pool may hold: a budget on the work and memory of everything
+/// built in it (the 41-coordinate nlink_cart_40 model needs 225,000). Pool::set_node_limit
+/// changes it per pool.
+inline constexpr std::size_t max_nodes = 10'000'000;
+/// Most terms and factors that sums and products of one Pool may process in all: a budget on
+/// time (about a minute of work), so that no input runs unbounded. nlink_cart_40, the
+/// largest benchmark model, uses 1.5 million. Pool::set_work_limit changes it per pool.
+inline constexpr std::uint64_t max_work = 200'000'000;
 /// Highest time-derivative order of a symbol (`x''…'`).
 inline constexpr int max_derivative_order = 16;
 } // namespace limits

@@ -34,6 +34,13 @@ public:
     [[nodiscard]] std::uint32_t id() const noexcept;
     /// Forgets memoized derivatives (the nodes stay).
     void clear_memo() noexcept;
+    /// The most distinct nodes this pool may hold (default limits::max_nodes); making one
+    /// more throws LimitError, so that no input can run a computation without bound.
+    void set_node_limit(std::size_t n) noexcept;
+    [[nodiscard]] std::size_t node_limit() const noexcept;
+    /// The budget on work (limits::max_work by default) and the work done so far.
+    void set_work_limit(std::uint64_t n) noexcept;
+    [[nodiscard]] std::uint64_t work() const noexcept;
 
     detail::PoolImpl& impl() noexcept { return *impl_; }
 
