@@ -15,7 +15,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const std::string_view text(reinterpret_cast<const char*>(data), size);
     cas::Pool pool; // memory and work bounded per input
     pool.set_node_limit(200'000);
-    pool.set_work_limit(2'000'000);
+    pool.set_work_limit(300'000);
     cas::PoolScope scope(pool);
     grammar::DiagnosticSink sink("<fuzz>", text);
     grammar::Positions positions(text);

@@ -13,13 +13,18 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const std::string_view text(reinterpret_cast<const char*>(data), size);
     phynjo::cas::Pool pool; // memory and work bounded per input
     pool.set_node_limit(200'000);
-    pool.set_work_limit(2'000'000);
+    pool.set_work_limit(300'000);
     phynjo::cas::PoolScope scope(pool);
     phynjo::grammar::DiagnosticSink sink("<fuzz>", text);
     phynjo::grammar::Positions positions(text);
     if (auto tree = phynjo::grammar::parse_expression(text, positions, sink)) {
         if (auto e = phynjo::grammar::to_expr(*tree, positions, sink)) {
-            const std::string printed = phynjo::cas::to_string(*e);
+            std::string printed;
+            try {
+                printed = phynjo::cas::to_string(*e, 100'000); // a documented limit, smaller here
+            } catch (const phynjo::cas::LimitError&) {
+                return 0;
+            }
             if (phynjo::grammar::parse(printed) != *e) std::abort(); // round trip broken
         }
     }

@@ -12,7 +12,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const std::string_view text(reinterpret_cast<const char*>(data), size);
     phynjo::cas::Pool pool; // memory and work bounded per input
     pool.set_node_limit(200'000);
-    pool.set_work_limit(2'000'000);
+    pool.set_work_limit(300'000);
     phynjo::cas::PoolScope scope(pool);
     phynjo::grammar::DiagnosticSink sink("fuzz.lag", text);
     auto model = phynjo::codegen::read_model(text, "fuzz.lag", sink);

@@ -9,13 +9,8 @@
 
 namespace phynjo::cas {
 
-namespace {
-/// A span over a small_vector (Boost 1.74's iterators are not C++20 contiguous iterators).
-template <typename V>
-std::span<const phynjo::cas::Expr> as_span(const V& v) {
-    return {v.data(), v.size()};
-}
-} // namespace
+using detail::as_span;
+
 
 namespace {
 

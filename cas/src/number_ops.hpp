@@ -4,6 +4,12 @@
 
 namespace phynjo::cas::detail {
 
+/// A span over a small_vector (Boost 1.74's iterators are not C++20 contiguous iterators).
+template <typename V>
+std::span<const Expr> as_span(const V& v) {
+    return {v.data(), v.size()};
+}
+
 Expr make_number(const mpq_class& v);
 Expr make_int(std::int64_t v);
 Expr num_add(Expr a, Expr b);

@@ -3,6 +3,7 @@
 #include "phynjo/cas/print.hpp"
 
 #include "number_ops.hpp"
+#include "phynjo/cas/errors.hpp"
 #include "phynjo/cas/rational.hpp"
 
 #include <algorithm>
@@ -18,16 +19,26 @@ enum class Mode { Infix, Cpp, Latex };
 
 struct Out {
     std::string s;
-    Prec p;
+    Prec p = Prec::Atom;
 };
 
 bool is_fn(Expr x, Function f) { return x.kind() == Kind::Function && static_cast<Function>(x->sub) == f; }
 
 class Printer {
 public:
-    Printer(Mode mode, const CppOptions* cpp) : mode_(mode), cpp_(cpp) {}
+    Printer(Mode mode, const CppOptions* cpp, std::size_t max_chars = limits::max_printed_chars)
+        : mode_(mode), cpp_(cpp), max_chars_(max_chars) {}
 
     Out print(Expr x) {
+        Out o = print_node(x);
+        // every node's text contains its children's: checking each result bounds the work
+        if (o.s.size() > max_chars_)
+            throw LimitError("printed expression too long (more than " + std::to_string(max_chars_) + " characters)");
+        return o;
+    }
+
+private:
+    Out print_node(Expr x) {
         switch (x.kind()) {
         case Kind::Number: return number(x.value());
         case Kind::Constant:
@@ -50,9 +61,9 @@ public:
         return {"?", Prec::Atom};
     }
 
-private:
     Mode mode_;
     const CppOptions* cpp_;
+    std::size_t max_chars_;
 
     static std::string wrap(const Out& o, Prec need, bool latex = false) {
         if (static_cast<int>(o.p) >= static_cast<int>(need)) return o.s;
@@ -239,6 +250,7 @@ private:
             if (a.get_num() != 1) num.push_back(a.get_num().get_str());
             if (a.get_den() != 1) den.push_back(a.get_den().get_str());
         }
+        Out lone; // the printed form of a single numerator factor (printed once only)
         for (Expr f : display_order(factors)) {
             if (f.kind() == Kind::Pow && f.args()[1].kind() == Kind::Number && detail::num_sign(f.args()[1]) < 0) {
                 Out o = print(pow(f.args()[0], detail::num_neg(f.args()[1])));
@@ -246,6 +258,7 @@ private:
             } else {
                 Out o = print(f);
                 num.push_back(wrap(o, Prec::Mul, latex));
+                lone = std::move(o);
             }
         }
         auto join = [&](const std::vector<std::string>& v) {
@@ -270,9 +283,8 @@ private:
         }
         if (num.size() == 1 && den.empty() && factors.size() == 1 && a == 1) {
             // c = ±1 times one factor: the factor's own form and precedence (x^2 stays a Pow)
-            Out o = print(factors[0]);
-            s = o.s;
-            p = o.p;
+            s = std::move(lone.s);
+            p = lone.p;
         }
         if (neg) return {"-" + s, Prec::Neg};
         return {s, p};
@@ -322,6 +334,7 @@ std::string default_cpp_name(Expr v) {
 }
 
 std::string to_string(Expr e) { return Printer(Mode::Infix, nullptr).print(e).s; }
+std::string to_string(Expr e, std::size_t max_chars) { return Printer(Mode::Infix, nullptr, max_chars).print(e).s; }
 std::string to_cpp(Expr e, const CppOptions& options) { return Printer(Mode::Cpp, &options).print(e).s; }
 std::string to_latex(Expr e) { return Printer(Mode::Latex, nullptr).print(e).s; }
 

@@ -49,3 +49,13 @@ TEST_CASE("LaTeX printing", "[cas][print]") {
     CHECK(to_latex(parse("sqrt(x) - exp(y)")) == "\\sqrt{x} - e^{y}");
     CHECK(to_latex(parse("m_cart*pi")) == "\\pi m_{cart}");
 }
+
+TEST_CASE("printing has a documented length limit", "[cas][print]") {
+    // a DAG printed as a tree doubles at every level: 2^30 leaves from 30 nodes
+    Expr e = symbol("x");
+    for (int k = 0; k < 30; ++k) e = sin(e) + cos(e);
+    CHECK(dag_size(e) < 100);
+    CHECK_THROWS_AS(to_string(e, 100'000), LimitError);
+    CHECK_THROWS_WITH(to_string(e, 1000), "printed expression too long (more than 1000 characters)");
+    CHECK(to_string(sin(symbol("x")), 1000) == "sin(x)");
+}

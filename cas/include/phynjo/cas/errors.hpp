@@ -52,6 +52,9 @@ inline constexpr std::size_t max_nodes = 10'000'000;
 /// time (about a minute of work), so that no input runs unbounded. nlink_cart_40, the
 /// largest benchmark model, uses 1.5 million. Pool::set_work_limit changes it per pool.
 inline constexpr std::uint64_t max_work = 200'000'000;
+/// Longest text a printer produces for one expression (a DAG printed as a tree can be
+/// exponentially longer than the DAG); beyond it, LimitError.
+inline constexpr std::size_t max_printed_chars = 16u << 20;
 /// Highest time-derivative order of a symbol (`x''…'`).
 inline constexpr int max_derivative_order = 16;
 } // namespace limits

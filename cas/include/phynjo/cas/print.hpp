@@ -11,6 +11,8 @@ namespace phynjo::cas {
 /// Infix in the input syntax of `lag-format.md`: parsing the result gives back `e` exactly.
 /// Terms and factors appear in a readable order (by kind, then alphabetically).
 std::string to_string(Expr e);
+/// The same with a smaller output limit (throws LimitError past `max_chars`).
+std::string to_string(Expr e, std::size_t max_chars);
 
 /// Options of the C++ printer.
 struct CppOptions {
