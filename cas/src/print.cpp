@@ -31,8 +31,11 @@ public:
 
     Out print(Expr x) {
         Out o = print_node(x);
-        // every node's text contains its children's: checking each result bounds the work
-        if (o.s.size() > max_chars_)
+        // The result must fit the limit, and so must the work: a DAG printed as a tree builds
+        // its shared parts again and again, so all text built by one call counts too (at
+        // most 4× the limit), which keeps the time linear in the limit.
+        produced_ += o.s.size();
+        if (o.s.size() > max_chars_ || produced_ > 4 * max_chars_)
             throw LimitError("printed expression too long (more than " + std::to_string(max_chars_) + " characters)");
         return o;
     }
@@ -64,6 +67,7 @@ private:
     Mode mode_;
     const CppOptions* cpp_;
     std::size_t max_chars_;
+    std::size_t produced_ = 0;
 
     static std::string wrap(const Out& o, Prec need, bool latex = false) {
         if (static_cast<int>(o.p) >= static_cast<int>(need)) return o.s;
