@@ -6,4 +6,5 @@ if(NOT TARGET PkgConfig::GMPXX)
   pkg_check_modules(GMPXX REQUIRED IMPORTED_TARGET GLOBAL gmpxx gmp)
 endif()
 find_package(Boost 1.74 REQUIRED)   # header-only: Spirit X3
+find_package(Eigen3 3.3 REQUIRED NO_MODULE) # rigid bodies: rotation and inertia matrices
 find_package(Threads REQUIRED)

@@ -73,6 +73,8 @@ using Vec3 = std::array<double, 3>;
 /// masses per component (a particle world, or the rigid-body state of the next module).
 struct State3D {
     std::span<const double> x, y, z, vx, vy, vz, m;
+    std::span<const double> wx = {}, wy = {}, wz = {};          ///< rigid worlds only, rad/s
+    std::span<const double> qw = {}, qx = {}, qy = {}, qz = {}; ///< rigid worlds only
 };
 
 /// A force field in 3-D: for a component, its force (N, world frame) and torque (N·m, world

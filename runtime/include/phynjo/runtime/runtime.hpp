@@ -12,4 +12,6 @@
 #include "phynjo/runtime/nbody.hpp"
 #include "phynjo/runtime/numeric.hpp"
 #include "phynjo/runtime/process.hpp"
+#include "phynjo/runtime/quaternion.hpp"
+#include "phynjo/runtime/rigid_body.hpp"
 #include "phynjo/runtime/world.hpp"
