@@ -1,7 +1,11 @@
 #pragma once
 /// \file
 /// Everything of phynjo::runtime.
+#include "phynjo/runtime/bounding_volume.hpp"
+#include "phynjo/runtime/broad_phase.hpp"
+#include "phynjo/runtime/collision_manager.hpp"
 #include "phynjo/runtime/component.hpp"
+#include "phynjo/runtime/contact.hpp"
 #include "phynjo/runtime/errors.hpp"
 #include "phynjo/runtime/event.hpp"
 #include "phynjo/runtime/executor.hpp"
@@ -9,6 +13,7 @@
 #include "phynjo/runtime/integrators.hpp"
 #include "phynjo/runtime/lagrangian.hpp"
 #include "phynjo/runtime/literal.hpp"
+#include "phynjo/runtime/narrow_phase.hpp"
 #include "phynjo/runtime/nbody.hpp"
 #include "phynjo/runtime/numeric.hpp"
 #include "phynjo/runtime/process.hpp"
