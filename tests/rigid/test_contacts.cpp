@@ -1,0 +1,191 @@
+// Contacts: bounce heights (e²), sliding to rolling at the time theory predicts, Newton's
+// cradle, simultaneous impacts (Gauss–Seidel vs the seed's Jacobi), a settling pile, guards.
+#include "phynjo/runtime/runtime.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <random>
+
+using namespace phynjo::runtime;
+
+namespace {
+
+constexpr double g = 9.81;
+
+World one_ball(const Eigen::Vector3d& p, const Eigen::Vector3d& v, double r = 0.05) {
+    Registry reg;
+    reg.add("ball");
+    RigidInit s;
+    s.position = p;
+    s.velocity = v;
+    return make_rigid_world(reg, {RigidBody::solid_sphere(1, r)}, {s}, contact_cache_fields());
+}
+
+/// A row of n touching balls along x (radius r), the first `gap` away from the second.
+World row(int n, double r, double gap, double v0) {
+    Registry reg;
+    std::vector<RigidInit> init(static_cast<std::size_t>(n));
+    for (int i = 0; i < n; ++i) {
+        reg.add("ball" + std::to_string(i));
+        init[static_cast<std::size_t>(i)].position = {2 * r * i + (i == 0 ? -gap : 0.0), 0, 0};
+    }
+    init[0].velocity = {v0, 0, 0};
+    return make_rigid_world(reg, std::vector<RigidBody>(static_cast<std::size_t>(n), RigidBody::solid_sphere(1, r)),
+                            init, contact_cache_fields());
+}
+
+} // namespace
+
+TEST_CASE("a bouncing ball loses height by e squared per bounce", "[contact][physics]") {
+    const double e = 0.5, r = 0.05, h0 = 1.0;
+    World w = one_ball({0, h0 + r, 0}, {0, 0, 0}, r);
+    ContactMaterial mat{restitution_curve(e, 0.05), constant_curve(0)};
+    Stepper s(rigid_contact_step(Force3D::gravity(g), all_bodies(w), {Plane::ground()}, mat, {}, w.layout_ptr()));
+    const double dt = 1e-4;
+    std::vector<double> apex{h0};
+    double prev_vy = 0;
+    for (int n = 0; n < 25000 && apex.size() < 4; ++n) {
+        s.step(w, dt);
+        const double vy = w.at(kVY, 0);
+        if (prev_vy > 0 && vy <= 0) apex.push_back(w.at(kY, 0) - r); // top of a bounce
+        prev_vy = vy;
+    }
+    REQUIRE(apex.size() == 4);
+    for (std::size_t k = 1; k < apex.size(); ++k) {
+        INFO("bounce " << k << ": " << apex[k - 1] << " -> " << apex[k] << " m, ratio " << apex[k] / apex[k - 1]);
+        // The collision is taken at the step that would reach the ground, within v·dt of it:
+        // the apex is off by at most that (≤ 0.5 mm here) relative to the bounce height.
+        CHECK(std::abs(apex[k] / apex[k - 1] - e * e) < 3e-3);
+    }
+    CHECK(max_penetration(w, all_bodies(w), std::vector<Plane>{Plane::ground()}) < 1e-9);
+}
+
+TEST_CASE("a sliding sphere starts rolling without slipping when theory says", "[contact][physics]") {
+    // Solid sphere, v0 along x, no spin, friction μ: the slip speed v − ωr falls at (7/2) μ g, so
+    // rolling (v = ωr) starts at t* = 2 v0 / (7 μ g) with v = (5/7) v0, and then stays.
+    const double r = 0.1, v0 = 2.0, mu = 0.3, dt = 1e-4;
+    World w = one_ball({0, r, 0}, {v0, 0, 0}, r);
+    ContactMaterial mat{constant_curve(0), constant_curve(mu)};
+    Stepper s(rigid_contact_step(Force3D::gravity(g), all_bodies(w), {Plane::ground()}, mat, {}, w.layout_ptr()));
+    const double t_star = 2 * v0 / (7 * mu * g);
+    double t_roll = -1;
+    for (int n = 1; n <= 5000; ++n) {
+        s.step(w, dt);
+        // contact point velocity: v + ω × (0, −r, 0) → x component v_x + ω_z r
+        const double slip = w.at(kVX, 0) + w.at(kWZ, 0) * r;
+        if (t_roll < 0 && std::abs(slip) < 1e-9) t_roll = n * dt;
+    }
+    INFO("rolling from t = " << t_roll << " s; theory " << t_star << " s");
+    CHECK(std::abs(t_roll - t_star) <= 1.5 * dt);
+    CHECK(w.at(kVX, 0) == Approx(5.0 / 7.0 * v0).epsilon(1e-9));
+    CHECK(std::abs(w.at(kVX, 0) + w.at(kWZ, 0) * r) < 1e-9);
+    CHECK(std::abs(w.at(kY, 0) - r) < 1e-9); // stays on the ground, neither sinking nor hopping
+}
+
+TEST_CASE("Newton's cradle passes the momentum to the last ball", "[contact][physics]") {
+    const int n = 5;
+    World w = row(n, 0.05, 0.02, 1.0);
+    ContactMaterial mat{constant_curve(1.0), constant_curve(0)};
+    const auto layout = w.layout_ptr();
+    Stepper s(rigid_contact_step(Force3D{}, all_bodies(w), {}, mat, {}, layout));
+    s.run(w, 1e-3, 200);
+    for (int i = 0; i + 1 < n; ++i) CHECK(std::abs(w.at(kVX, static_cast<Index>(i))) < 1e-12);
+    CHECK(w.at(kVX, n - 1) == Approx(1.0).epsilon(1e-12));
+    CHECK(total_linear_momentum(w).x() == Approx(1.0).epsilon(1e-12));
+}
+
+TEST_CASE("simultaneous impacts: Gauss-Seidel conserves energy, the seed's Jacobi passes do not", "[contact][physics]") {
+    // Two balls hit a resting middle ball from both sides at once, e = 1. Energy and momentum
+    // conservation with the symmetry give the outer balls reversed and the middle at rest.
+    auto run = [](ContactScheme scheme) {
+        Registry reg;
+        for (const char* s : {"left", "middle", "right"}) reg.add(s);
+        std::vector<RigidInit> init(3);
+        init[0].position = {-0.1005, 0, 0};
+        init[0].velocity = {1, 0, 0};
+        init[2].position = {0.1005, 0, 0};
+        init[2].velocity = {-1, 0, 0};
+        World w = make_rigid_world(reg, std::vector<RigidBody>(3, RigidBody::solid_sphere(1, 0.05)), init);
+        ContactOptions o;
+        o.scheme = scheme;
+        Stepper s(rigid_contact_step(Force3D{}, all_bodies(w), {}, ContactMaterial{constant_curve(1), constant_curve(0)},
+                                     o, w.layout_ptr()));
+        s.run(w, 1e-3, 10);
+        return w;
+    };
+    const World gs = run(ContactScheme::gauss_seidel);
+    CHECK(gs.at(kVX, 0) == Approx(-1).epsilon(1e-12));
+    CHECK(std::abs(gs.at(kVX, 1)) < 1e-12);
+    CHECK(gs.at(kVX, 2) == Approx(1).epsilon(1e-12));
+    const World jc = run(ContactScheme::jacobi);
+    CHECK(std::abs(total_linear_momentum(jc).x()) < 1e-12);  // momentum is kept…
+    CHECK(rigid_kinetic_energy(jc) < 0.5 * rigid_kinetic_energy(gs)); // …energy is not
+}
+
+TEST_CASE("a pile of spheres settles between walls: at rest, no visible overlap, deterministic", "[contact][physics]") {
+    const int side = 5;
+    const double r = 0.05, spacing = 0.13;
+    Registry reg;
+    std::vector<RigidInit> init;
+    std::mt19937 rng(42);
+    std::uniform_real_distribution<double> jitter(-0.01, 0.01);
+    for (int i = 0; i < side; ++i)
+        for (int j = 0; j < side; ++j)
+            for (int k = 0; k < side; ++k) {
+                reg.add("s" + std::to_string(init.size()));
+                RigidInit s;
+                s.position = {(i + 0.5) * spacing + jitter(rng), r + 0.05 + j * spacing + jitter(rng), (k + 0.5) * spacing + jitter(rng)};
+                init.push_back(s);
+            }
+    const double L = side * spacing;
+    std::vector<Plane> planes{Plane::ground(), Plane{{1, 0, 0}, 0}, Plane{{-1, 0, 0}, -L}, Plane{{0, 0, 1}, 0},
+                              Plane{{0, 0, -1}, -L}};
+    World w0 = make_rigid_world(reg, std::vector<RigidBody>(init.size(), RigidBody::solid_sphere(1, r)), init,
+                                contact_cache_fields());
+    ContactMaterial mat{restitution_curve(0.5, 0.2), constant_curve(0.5)};
+    ContactOptions o;
+    o.velocity_iterations = 20;
+    World w = w0;
+    Stepper s(rigid_contact_step(Force3D::gravity(g), all_bodies(w), planes, mat, o, w.layout_ptr()));
+    const RunReport rep = s.run_guarded(w, 1.0 / 240, 720);
+    REQUIRE(rep.completed);
+    double vmax = 0, top = 0;
+    for (Index i = 0; i < w.size(); ++i) {
+        vmax = std::max(vmax, velocity(w, i).norm());
+        top = std::max(top, w.at(kY, i));
+        CHECK(w.at(kX, i) > r - 1e-3);
+        CHECK(w.at(kX, i) < L - r + 1e-3);
+    }
+    const double pen = max_penetration(w, all_bodies(w), planes);
+    INFO("after 3 s: max speed " << vmax << " m/s, max penetration " << pen * 1e3 << " mm, top " << top << " m");
+    CHECK(vmax < 0.05);
+    CHECK(pen < 5e-4);
+    // Same inputs, same bits.
+    World again = w0;
+    Stepper s2(rigid_contact_step(Force3D::gravity(g), all_bodies(again), planes, mat, o, again.layout_ptr()));
+    s2.run(again, 1.0 / 240, 720);
+    CHECK(again.hash() == w.hash());
+}
+
+TEST_CASE("contact misuse is refused with a message naming what is wrong", "[contact][guards]") {
+    World w = one_ball({0, 1, 0}, {0, 0, 0});
+    const auto layout = w.layout_ptr();
+    ContactOptions bad;
+    bad.baumgarte = 2;
+    CHECK_THROWS_WITH(contact_ground(all_bodies(w), {}, bad, layout),
+                      "contact_rule: the Baumgarte factor must be in [0, 1]");
+    CHECK_THROWS_WITH(contact_rule(all_bodies(w), {Plane{{0, 2, 0}, 0}}, {}, {}, layout),
+                      "plane: the normal is not a unit vector");
+    // A restitution curve out of range: the guarded run stops and says why.
+    World v = one_ball({0, 0.06, 0}, {0, -1, 0});
+    Stepper s(NumericWorkflow::run(
+        contact_ground(all_bodies(v), ContactMaterial{constant_curve(1.5), constant_curve(0)}, {}, v.layout_ptr())));
+    const RunReport rep = s.run_guarded(v, 0.01, 10);
+    CHECK_FALSE(rep.completed);
+    CHECK(rep.reason.find("restitution curve returned 1.5") != std::string::npos);
+    // Contacts write what a kick of the same body writes: they cannot run in parallel.
+    CHECK_THROWS_AS(NumericWorkflow::par(NumericWorkflow::run(contact_ground(all_bodies(w), {}, {}, layout)),
+                                         NumericWorkflow::run(kick_force3d(Force3D::gravity(g), all_bodies(w), 1, layout))),
+                    DomainOverlapError);
+}
