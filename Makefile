@@ -50,6 +50,7 @@ demo: build
 	@scripts/demo $(BUILD)
 
 bench: deps
+	PHYNJO_BENCH_DEPS=1 scripts/install-deps
 	cmake -S . -B $(BUILD)-bench -DCMAKE_BUILD_TYPE=Release -DPHYNJO_BUILD_BENCH=ON -DPHYNJO_BUILD_TESTS=OFF -DPHYNJO_NATIVE=ON $(CMAKE_ARGS)
 	cmake --build $(BUILD)-bench -j $(JOBS)
 	@bench/run-all $(BUILD)-bench

@@ -54,6 +54,7 @@ struct Row {
     double sep, bias;            // separation, minimum normal velocity
     double mu;
     double jn, jt1, jt2;         // accumulated impulses
+    bool resting;                // carried a load in the previous step (found in the cache)
 };
 
 inline double dot(const double* a, const double* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
@@ -116,6 +117,8 @@ private:
     void correct_positions();
     void setup_rows(double dt);
     void warm_start(const World& w);
+    void mark_resting(const World& w);
+    const Slot* find_slot(const World& w, const Row& c) const;
     void collisions(double dt);
     void solve_contacts();
     void scatter(World& w) const;
@@ -215,6 +218,7 @@ void Solver::detect(const World& w, double dt) {
         r.b = k.plane >= 0 ? stat : local_[k.b];
         r.plane = k.plane;
         r.jn = r.jt1 = r.jt2 = 0;
+        r.resting = false;
     }
 }
 
@@ -328,30 +332,40 @@ void Solver::apply_tangent(Row& c, double l1, double l2, std::vector<Body>& B) c
     }
 }
 
+const Solver::Slot* Solver::find_slot(const World& w, const Row& c) const {
+    const Index a = ids_[c.a];
+    const double key = c.plane >= 0 ? -(c.plane + 1.0) : ids_[c.b] + 1.0;
+    for (const Slot& s : slots_) {
+        const double p = w.at(s.partner, a);
+        if (p == 0) break; // slots are filled from the front
+        if (p == key) return &s;
+    }
+    return nullptr;
+}
+
+void Solver::mark_resting(const World& w) {
+    if (slots_.empty()) return;
+    for (Row& c : rows_) c.resting = find_slot(w, c) != nullptr;
+}
+
 void Solver::warm_start(const World& w) {
     if (slots_.empty()) return;
     for (Row& c : rows_) {
+        const Slot* s = find_slot(w, c);
+        if (!s) continue;
         const Index a = ids_[c.a];
-        const double key = c.plane >= 0 ? -(c.plane + 1.0) : ids_[c.b] + 1.0;
-        for (const Slot& s : slots_) {
-            const double p = w.at(s.partner, a);
-            if (p == 0) break; // slots are filled from the front
-            if (p != key) continue;
-            const double jn = w.at(s.jn, a);
-            const double jt[3] = {w.at(s.jtx, a), w.at(s.jty, a), w.at(s.jtz, a)};
-            c.jn = jn;
-            c.jt1 = dot(jt, c.t1);
-            c.jt2 = dot(jt, c.t2);
-            const double lim = c.mu * c.jn, mag = std::sqrt(c.jt1 * c.jt1 + c.jt2 * c.jt2);
-            if (mag > lim) {
-                const double s2 = mag > 0 ? lim / mag : 0;
-                c.jt1 *= s2;
-                c.jt2 *= s2;
-            }
-            apply_normal(c, c.jn, bodies_);
-            apply_tangent(c, c.jt1, c.jt2, bodies_);
-            break;
+        const double jt[3] = {w.at(s->jtx, a), w.at(s->jty, a), w.at(s->jtz, a)};
+        c.jn = w.at(s->jn, a);
+        c.jt1 = dot(jt, c.t1);
+        c.jt2 = dot(jt, c.t2);
+        const double lim = c.mu * c.jn, mag = std::sqrt(c.jt1 * c.jt1 + c.jt2 * c.jt2);
+        if (mag > lim) {
+            const double k = mag > 0 ? lim / mag : 0;
+            c.jt1 *= k;
+            c.jt2 *= k;
         }
+        apply_normal(c, c.jn, bodies_);
+        apply_tangent(c, c.jt1, c.jt2, bodies_);
     }
 }
 
@@ -371,7 +385,7 @@ void Solver::collisions(double dt) {
             const Body& B = from[c.b];
             double dv[3] = {A.v[0] - B.v[0], A.v[1] - B.v[1], A.v[2] - B.v[2]};
             const double vn = dot(dv, c.n);
-            if (vn >= 0 || c.sep + vn * dt >= 0) continue;
+            if (c.resting || vn >= 0 || c.sep + vn * dt >= 0) continue;
             const double e = curve(material_.restitution, -vn, true);
             if (e == 0) continue;
             any = true;
@@ -468,8 +482,12 @@ void Solver::step(double dt, World& w) {
     detect(w, dt);
     correct_positions();
     setup_rows(dt);
-    warm_start(w);
+    // Collisions see the velocities before any contact impulse: the warm start is a first
+    // guess at the resting impulses that the contact passes may take back, and an impact
+    // computed against it would keep a bounce that the guess only lent.
+    mark_resting(w);
     collisions(dt);
+    warm_start(w);
     solve_contacts();
     scatter(w);
     store_cache(w);

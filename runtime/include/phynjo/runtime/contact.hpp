@@ -13,7 +13,9 @@
 ///  3. collisions, up to `restitution_iterations` passes: a contact that is approaching
 ///     (v_n < 0), will touch within the step (s + v_n dt < 0) and has e(|v_n|) > 0 takes the
 ///     seed's impulse j_n = −(1 + e) v_n / K_n⁻¹ with friction j_t = clip(−|v_t|/K_t⁻¹, ±μ j_n)
-///     (so a row of touching balls passes an impact along, as in Newton's cradle);
+///     (so a row of touching balls passes an impact along, as in Newton's cradle). A contact
+///     that carried a load in the previous step (found in the warm-start cache) is resting,
+///     not colliding, and takes no restitution: a settling pile does not rattle;
 ///  4. contacts, `velocity_iterations` passes of projected (accumulated, clamped) impulses:
 ///     v_n ≥ −max(s, 0)/dt (a gap may close within the step: speculative contacts, no
 ///     tunnelling) and |j_t| ≤ μ j_n on the tangent disk; warm-started from the impulses of
