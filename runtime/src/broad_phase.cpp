@@ -96,7 +96,14 @@ std::uint64_t pack(std::int64_t x, std::int64_t y, std::int64_t z) {
            (static_cast<std::uint64_t>(z) << (2 * kBits));
 }
 std::size_t slot_of(std::uint64_t key, std::size_t mask) {
-    return static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> 17) & mask;
+    // splitmix64's finalizer: every key bit reaches every slot bit (a plain multiplicative
+    // hash read from low bits ignored z, so cells differing only in z shared probe chains).
+    key ^= key >> 30;
+    key *= 0xBF58476D1CE4E5B9ull;
+    key ^= key >> 27;
+    key *= 0x94D049BB133111EBull;
+    key ^= key >> 31;
+    return static_cast<std::size_t>(key) & mask;
 }
 
 } // namespace
