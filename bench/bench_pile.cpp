@@ -92,21 +92,12 @@ Result run_phynjo(const Scene& s) {
     World w = make_rigid_world(reg, std::vector<RigidBody>(s.start.size(), RigidBody::solid_sphere(kSphereMass, kR)), init,
                                contact_cache_fields());
     ContactOptions o; // defaults, stated in bench/RESULTS.md
-    if (const char* e = std::getenv("PILE_VEL")) o.velocity_iterations = std::atoi(e);
-    if (const char* e = std::getenv("PILE_POS")) o.position_iterations = std::atoi(e);
-    if (const char* e = std::getenv("PILE_REST")) o.restitution_iterations = std::atoi(e);
-    if (const char* e = std::getenv("PILE_BETA")) o.baumgarte = std::atof(e);
     Stepper st(rigid_contact_step(Force3D::gravity(kG), all_bodies(w), s.planes,
                                   ContactMaterial{restitution_curve(kE, kBounceVel), constant_curve(kMu)}, o,
                                   w.layout_ptr()));
     const auto t0 = Clock::now();
     st.run(w, kDt, static_cast<std::size_t>(kSteps));
     const double sec = std::chrono::duration<double>(Clock::now() - t0).count();
-    if (std::getenv("PILE_DEBUG")) {
-        Index f = 0;
-        for (Index i = 0; i < w.size(); ++i) if (velocity(w, i).norm() > velocity(w, f).norm()) f = i;
-        std::printf("fastest %u at (%g %g %g) v (%g %g %g) w (%g %g %g)\n", f, w.at(kX, f), w.at(kY, f), w.at(kZ, f), w.at(kVX, f), w.at(kVY, f), w.at(kVZ, f), w.at(kWX, f), w.at(kWY, f), w.at(kWZ, f));
-    }
     std::vector<Eigen::Vector3d> pos, vel;
     for (Index i = 0; i < w.size(); ++i) {
         pos.push_back(position(w, i));
@@ -264,7 +255,6 @@ int main(int argc, char** argv) {
         const int n = s.n * s.n * s.n;
         const Result p = run_phynjo(s);
         print("phynjo", n, p);
-        if (std::getenv("PILE_ONLY")) continue;
         const Result o = run_ode(s);
         print("ODE", n, o);
         const Result b = run_bullet(s);
