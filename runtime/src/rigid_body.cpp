@@ -152,20 +152,19 @@ void set_orientation(World& w, Index c, const Quaternion& q) {
     w.at(kQZ, c) = u.z;
 }
 
-Eigen::Matrix3d body_inertia(const World& w, Index c) {
+namespace {
+/// The symmetric matrix stored as six fields, from the xx field on: xx, yy, zz, xy, xz, yz.
+Eigen::Matrix3d symmetric(const World& w, Index c, FieldId xx) {
+    const double a = w.at(xx, c), b = w.at(xx + 1, c), d = w.at(xx + 2, c);
+    const double xy = w.at(xx + 3, c), xz = w.at(xx + 4, c), yz = w.at(xx + 5, c);
     Eigen::Matrix3d m;
-    m << w.at(kIxx, c), w.at(kIxy, c), w.at(kIxz, c), //
-        w.at(kIxy, c), w.at(kIyy, c), w.at(kIyz, c),  //
-        w.at(kIxz, c), w.at(kIyz, c), w.at(kIzz, c);
+    m << a, xy, xz, xy, b, yz, xz, yz, d;
     return m;
 }
-Eigen::Matrix3d body_inverse_inertia(const World& w, Index c) {
-    Eigen::Matrix3d m;
-    m << w.at(kInvIxx, c), w.at(kInvIxy, c), w.at(kInvIxz, c), //
-        w.at(kInvIxy, c), w.at(kInvIyy, c), w.at(kInvIyz, c),  //
-        w.at(kInvIxz, c), w.at(kInvIyz, c), w.at(kInvIzz, c);
-    return m;
-}
+} // namespace
+
+Eigen::Matrix3d body_inertia(const World& w, Index c) { return symmetric(w, c, kIxx); }
+Eigen::Matrix3d body_inverse_inertia(const World& w, Index c) { return symmetric(w, c, kInvIxx); }
 Eigen::Matrix3d world_inertia(const World& w, Index c) {
     const Eigen::Matrix3d r = orientation(w, c).to_matrix();
     return r * body_inertia(w, c) * r.transpose();
