@@ -169,6 +169,8 @@ void Solver::gather(const World& w) {
         b.p[0] = w.at(kX, i), b.p[1] = w.at(kY, i), b.p[2] = w.at(kZ, i);
         b.im = w.at(kInvMass, i);
         b.r = w.at(kRadius, i);
+        if (!std::isfinite(b.p[0] + b.p[1] + b.p[2] + b.v[0] + b.v[1] + b.v[2] + b.w[0] + b.w[1] + b.w[2]))
+            throw Error("contact: the position or velocity of '" + layout_->components.label(i) + "' is not finite");
         const bool isotropic = w.at(kInvIxy, i) == 0 && w.at(kInvIxz, i) == 0 && w.at(kInvIyz, i) == 0 &&
                                w.at(kInvIxx, i) == w.at(kInvIyy, i) && w.at(kInvIxx, i) == w.at(kInvIzz, i);
         if (isotropic) { // R I⁻¹ Rᵀ = I⁻¹

@@ -184,6 +184,13 @@ TEST_CASE("contact misuse is refused with a message naming what is wrong", "[con
     const RunReport rep = s.run_guarded(v, 0.01, 10);
     CHECK_FALSE(rep.completed);
     CHECK(rep.reason.find("restitution curve returned 1.5") != std::string::npos);
+    // A non-finite state reaching the contacts: the guarded run names the body.
+    World nan = one_ball({0, 1, 0}, {0, 0, 0}); // (make_rigid_world itself refuses a NaN)
+    nan.at(kY, 0) = std::nan("");
+    Stepper sn(NumericWorkflow::run(contact_ground(all_bodies(nan), {}, {}, nan.layout_ptr())));
+    const RunReport rn = sn.run_guarded(nan, 0.01, 1);
+    CHECK_FALSE(rn.completed);
+    CHECK(rn.reason == "a rule failed: contact: the position or velocity of 'ball' is not finite");
     // Contacts write what a kick of the same body writes: they cannot run in parallel.
     CHECK_THROWS_AS(NumericWorkflow::par(NumericWorkflow::run(contact_ground(all_bodies(w), {}, {}, layout)),
                                          NumericWorkflow::run(kick_force3d(Force3D::gravity(g), all_bodies(w), 1, layout))),
