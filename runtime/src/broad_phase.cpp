@@ -128,25 +128,53 @@ void UniformGrid::find_pairs(std::span<const AABB> boxes, std::vector<CandidateP
         return static_cast<std::int64_t>(std::clamp(c, 0.0, static_cast<double>(kMaxCell)));
     };
     keys_.resize(n);
-    std::size_t cap = 16;
-    while (cap < 2 * n) cap *= 2;
-    const std::size_t mask = cap - 1;
-    table_keys_.assign(cap, kEmpty);
+    std::int64_t ext[3] = {0, 0, 0};
+    for (std::size_t i = 0; i < n; ++i) {
+        const std::int64_t c[3] = {coord(boxes[i].lo.x(), origin.x()), coord(boxes[i].lo.y(), origin.y()),
+                                   coord(boxes[i].lo.z(), origin.z())};
+        for (int k = 0; k < 3; ++k) ext[k] = std::max(ext[k], c[k] + 1);
+        keys_[i] = pack(c[0], c[1], c[2]);
+    }
+    const std::uint64_t m21 = static_cast<std::uint64_t>(kMaxCell);
+    auto unpack = [&](std::uint64_t key, std::int64_t& x, std::int64_t& y, std::int64_t& z) {
+        x = static_cast<std::int64_t>(key & m21);
+        y = static_cast<std::int64_t>((key >> kBits) & m21);
+        z = static_cast<std::int64_t>(key >> (2 * kBits));
+    };
+    // Cell table: dense (direct indexing) when the occupied box of cells is small next to n,
+    // as in piles and gases; hashed (open addressing) when the scene is sparse.
+    const double cells = static_cast<double>(ext[0]) * static_cast<double>(ext[1]) * static_cast<double>(ext[2]);
+    const bool dense = cells <= 4.0 * static_cast<double>(n) + 1024;
+    std::size_t cap = 16, mask = 0;
+    if (dense) {
+        cap = static_cast<std::size_t>(cells);
+    } else {
+        while (cap < 2 * n) cap *= 2;
+        mask = cap - 1;
+        table_keys_.assign(cap, kEmpty);
+    }
     table_count_.assign(cap, 0);
     table_begin_.resize(cap);
+    // The slot of a cell, or cap if the cell is empty (hashed) / outside the table (dense).
     auto find = [&](std::uint64_t key) {
         std::size_t s = slot_of(key, mask);
         while (table_keys_[s] != kEmpty && table_keys_[s] != key) s = (s + 1) & mask;
         return s;
     };
-    for (std::size_t i = 0; i < n; ++i) {
-        const std::uint64_t key = pack(coord(boxes[i].lo.x(), origin.x()), coord(boxes[i].lo.y(), origin.y()),
-                                       coord(boxes[i].lo.z(), origin.z()));
-        keys_[i] = key;
+    auto dense_slot = [&](std::int64_t x, std::int64_t y, std::int64_t z) {
+        return static_cast<std::size_t>(x + ext[0] * (y + ext[1] * z));
+    };
+    auto slot_for_insert = [&](std::uint64_t key) {
+        if (dense) {
+            std::int64_t x, y, z;
+            unpack(key, x, y, z);
+            return dense_slot(x, y, z);
+        }
         const std::size_t s = find(key);
         table_keys_[s] = key;
-        ++table_count_[s];
-    }
+        return s;
+    };
+    for (std::size_t i = 0; i < n; ++i) ++table_count_[slot_for_insert(keys_[i])];
     std::uint32_t total = 0;
     for (std::size_t s = 0; s < cap; ++s) {
         table_begin_[s] = total;
@@ -155,21 +183,26 @@ void UniformGrid::find_pairs(std::span<const AABB> boxes, std::vector<CandidateP
     }
     sorted_.resize(n);
     for (std::size_t i = 0; i < n; ++i) { // stable: each cell lists its boxes in index order
-        const std::size_t s = find(keys_[i]);
+        const std::size_t s = slot_for_insert(keys_[i]);
         sorted_[table_begin_[s] + table_count_[s]++] = static_cast<Index>(i);
     }
-    const std::uint64_t m21 = static_cast<std::uint64_t>(kMaxCell);
     for (std::size_t i = 0; i < n; ++i) {
-        const auto cx = static_cast<std::int64_t>(keys_[i] & m21), cy = static_cast<std::int64_t>((keys_[i] >> kBits) & m21),
-                   cz = static_cast<std::int64_t>(keys_[i] >> (2 * kBits));
+        std::int64_t cx, cy, cz;
+        unpack(keys_[i], cx, cy, cz);
         scratch_.clear();
         for (std::int64_t dz = -1; dz <= 1; ++dz)
             for (std::int64_t dy = -1; dy <= 1; ++dy)
                 for (std::int64_t dx = -1; dx <= 1; ++dx) {
                     const std::int64_t x = cx + dx, y = cy + dy, z = cz + dz;
-                    if (x < 0 || y < 0 || z < 0 || x > kMaxCell || y > kMaxCell || z > kMaxCell) continue;
-                    const std::size_t s = find(pack(x, y, z));
-                    if (table_keys_[s] == kEmpty) continue;
+                    std::size_t s;
+                    if (dense) {
+                        if (x < 0 || y < 0 || z < 0 || x >= ext[0] || y >= ext[1] || z >= ext[2]) continue;
+                        s = dense_slot(x, y, z);
+                    } else {
+                        if (x < 0 || y < 0 || z < 0 || x > kMaxCell || y > kMaxCell || z > kMaxCell) continue;
+                        s = find(pack(x, y, z));
+                        if (table_keys_[s] == kEmpty) continue;
+                    }
                     const std::uint32_t b = table_begin_[s], e = b + table_count_[s];
                     for (std::uint32_t k = b; k < e; ++k) {
                         const Index j = sorted_[k];
