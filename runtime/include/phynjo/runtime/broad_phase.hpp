@@ -46,7 +46,8 @@ private:
     int axis_ = 0;
 };
 
-/// Uniform grid with a hashed cell table (no bound on the extent of the scene).
+/// Uniform grid: a dense cell table when the scene's box of cells holds at most ~4 cells per
+/// box (piles, gases), a hashed one otherwise (no bound on the extent of the scene).
 class UniformGrid {
 public:
     /// `cell_size` (m): 0 chooses the largest box extent; a smaller value than that is raised
