@@ -143,7 +143,8 @@ private:
     std::vector<SphereBB> spheres_;
     std::vector<Contact> contacts_;
     std::vector<Row> rows_;
-    std::vector<double> delta_; // Jacobi accumulators: 9 per body (dp or dv, dω)
+    std::vector<double> delta_; // Jacobi position accumulators: 3 per body
+    std::vector<double> split_; // Jacobi: contacts per body (mass splitting)
     std::vector<Index> local_;  // component → scratch index (for pair lookup)
 };
 
@@ -273,9 +274,22 @@ void Solver::correct_positions() {
 }
 
 void Solver::setup_rows(double dt) {
+    // Jacobi: split each body's mass evenly among its contacts (its inverse mass and inverse
+    // inertia times its contact count), so that the simultaneous corrections of a pass add up
+    // to one body's worth instead of overshooting by the contact count (Tonge, Benevolenski &
+    // Voroshilov, "Mass splitting for jitter-free parallel rigid body simulation", SIGGRAPH 2012).
+    const bool jacobi = options_.scheme == ContactScheme::jacobi;
+    if (jacobi) {
+        split_.assign(bodies_.size(), 0.0);
+        for (const Row& c : rows_) {
+            split_[c.a] += 1;
+            split_[c.b] += 1;
+        }
+    }
     for (Row& c : rows_) {
         const Body& A = bodies_[c.a];
         const Body& B = bodies_[c.b];
+        const double sa = jacobi ? split_[c.a] : 1.0, sb = jacobi ? split_[c.b] : 1.0;
         c.ra = A.r;
         if (c.plane >= 0) {
             const Plane& pl = planes_[static_cast<std::size_t>(c.plane)];
@@ -294,10 +308,10 @@ void Solver::setup_rows(double dt) {
             c.rb = B.r;
         }
         tangent_basis(c.n, c.t1, c.t2);
-        const double im = A.im + B.im;
+        const double im = sa * A.im + sb * B.im;
         c.mn = 1 / im;
-        c.mt1 = 1 / (im + c.ra * c.ra * quad(A.ii, c.t2) + c.rb * c.rb * quad(B.ii, c.t2));
-        c.mt2 = 1 / (im + c.ra * c.ra * quad(A.ii, c.t1) + c.rb * c.rb * quad(B.ii, c.t1));
+        c.mt1 = 1 / (im + sa * c.ra * c.ra * quad(A.ii, c.t2) + sb * c.rb * c.rb * quad(B.ii, c.t2));
+        c.mt2 = 1 / (im + sa * c.ra * c.ra * quad(A.ii, c.t1) + sb * c.rb * c.rb * quad(B.ii, c.t1));
         c.bias = -std::max(c.sep, 0.0) / dt;
         // μ from the sliding speed before the solve.
         double dv[3] = {A.v[0] - B.v[0], A.v[1] - B.v[1], A.v[2] - B.v[2]};

@@ -49,7 +49,11 @@ struct ContactMaterial {
 
 enum class ContactScheme {
     gauss_seidel, ///< sequential impulses: each contact sees the impulses applied before it (default)
-    jacobi,       ///< the seed: every contact of a pass sees the velocities at the start of the pass
+    /// The seed's passes: every contact of a pass sees the state at the start of the pass and
+    /// the corrections are added after it (parallel in principle). Each body's mass is split
+    /// evenly among its contacts (Tonge et al. 2012) so that the corrections of a body with
+    /// several contacts do not overshoot; without that a pile never comes to rest.
+    jacobi,
 };
 
 struct ContactOptions {
