@@ -9,50 +9,22 @@
 // Ordinary Differential Equations I, §II.1.
 #include "phynjo/runtime/integrators.hpp"
 
+#include "rk4_stages.hpp"
+
 namespace phynjo::runtime {
 
 std::vector<std::string> rk4_fields() { return {"rk4_q0", "rk4_p0", "rk4_aq", "rk4_ap"}; }
 
 NumericWorkflow rk4(const Force1D& force, const ComponentSet& bodies, std::shared_ptr<const Layout> layout) {
-    const FieldId q0 = layout->field("rk4_q0"), p0 = layout->field("rk4_p0");
-    const FieldId aq = layout->field("rk4_aq"), ap = layout->field("rk4_ap");
-    const Domain state = Domain(kQ, bodies) | Domain(kP, bodies);
-    const Domain storage = Domain(q0, bodies) | Domain(p0, bodies) | Domain(aq, bodies) | Domain(ap, bodies);
-    const Domain reads = force.reads() | Domain(kM, bodies);
-
-    NumericRule save{"rk4_save", storage, state, nullptr, layout};
-    save.step = [=](double, World& w) {
-        for (Index i : bodies.indices()) {
-            w.at(q0, i) = w.at(kQ, i);
-            w.at(p0, i) = w.at(kP, i);
-            w.at(aq, i) = w.at(ap, i) = 0;
-        }
+    const detail::Rk4Fields f{kQ, kP, layout->field("rk4_q0"), layout->field("rk4_p0"), layout->field("rk4_aq"),
+                              layout->field("rk4_ap")};
+    const std::vector<Index> idx(bodies.indices().begin(), bodies.indices().end());
+    // f(y) = (p/m, F(q, p)); autonomous.
+    auto derivative = [force, idx](double, const World& w, std::span<double> kq, std::span<double> kp) {
+        force.accumulate(w, kp);
+        for (Index i : idx) kq[i] = w.at(kP, i) / w.at(kM, i);
     };
-    // Stage: k = f(current); acc += weight·k; current = y0 + next·dt·k (or, last, y0 + dt·(acc)).
-    auto stage = [&](const std::string& name, double weight, double next, bool last) {
-        NumericRule r{name, state | storage, reads, nullptr, layout};
-        r.step = [=](double dt, World& w) {
-            thread_local std::vector<double> F;
-            F.assign(w.size(), 0.0);
-            force.accumulate(w, F);
-            for (Index i : bodies.indices()) {
-                const double kq = w.at(kP, i) / w.at(kM, i), kp = F[i];
-                w.at(aq, i) += weight * kq;
-                w.at(ap, i) += weight * kp;
-                if (last) {
-                    w.at(kQ, i) = w.at(q0, i) + dt * w.at(aq, i);
-                    w.at(kP, i) = w.at(p0, i) + dt * w.at(ap, i);
-                } else {
-                    w.at(kQ, i) = w.at(q0, i) + next * dt * kq;
-                    w.at(kP, i) = w.at(p0, i) + next * dt * kp;
-                }
-            }
-        };
-        return NumericWorkflow::run(r);
-    };
-    return NumericWorkflow::seq(std::vector<NumericWorkflow>{
-        NumericWorkflow::run(save), stage("rk4_k1", 1.0 / 6, 0.5, false), stage("rk4_k2", 2.0 / 6, 0.5, false),
-        stage("rk4_k3", 2.0 / 6, 1.0, false), stage("rk4_k4", 1.0 / 6, 0, true)});
+    return detail::rk4_workflow(f, bodies, force.reads() | Domain(kM, bodies), derivative, layout);
 }
 
 } // namespace phynjo::runtime

@@ -1,5 +1,7 @@
 #include "phynjo/runtime/lagrangian.hpp"
 
+#include "rk4_stages.hpp"
+
 #include <algorithm>
 
 namespace phynjo::runtime {
@@ -13,44 +15,14 @@ World make_lagrangian_world(const LagrangianSystem& s) {
 }
 
 NumericWorkflow lagrangian_rk4(const LagrangianSystem& s, const std::shared_ptr<const Layout>& layout) {
-    const std::size_t n = s.dof;
-    const ComponentSet all = ComponentSet::range(0, static_cast<Index>(n));
-    const FieldId q0 = 2, v0 = 3, aq = 4, av = 5;
-    const Domain state = Domain(kGQ, all) | Domain(kGV, all);
-    const Domain storage = Domain(q0, all) | Domain(v0, all) | Domain(aq, all) | Domain(av, all);
-    NumericRule save{"rk4_save", storage, state, nullptr, layout};
-    save.step = [=](double, World& w) {
-        for (Index i = 0; i < n; ++i) {
-            w.at(q0, i) = w.at(kGQ, i);
-            w.at(v0, i) = w.at(kGV, i);
-            w.at(aq, i) = w.at(av, i) = 0;
-        }
+    const ComponentSet all = ComponentSet::range(0, static_cast<Index>(s.dof));
+    // f(t, q, q') = (q', q''(t, q, q')); the stage storage is fields 2…5 of the world.
+    auto derivative = [acc = s.accelerations](double t, const World& w, std::span<double> kq, std::span<double> kv) {
+        const std::size_t n = w.size();
+        acc(t, w.field(kGQ), w.field(kGV), kv.first(n));
+        for (Index i = 0; i < n; ++i) kq[i] = w.at(kGV, i);
     };
-    // stage: k = (v, a(t + c·dt, q, v)); acc += weight·k; move to y0 + next·dt·k (or finish)
-    auto stage = [&](const char* name, double c, double weight, double next, bool last) {
-        NumericRule r{name, state | storage, {}, nullptr, layout};
-        r.step = [=, acc = s.accelerations](double dt, World& w) {
-            thread_local std::vector<double> a;
-            a.assign(n, 0.0);
-            acc(w.time + c * dt, w.field(kGQ), w.field(kGV), a);
-            for (Index i = 0; i < n; ++i) {
-                const double kq = w.at(kGV, i), kv = a[i];
-                w.at(aq, i) += weight * kq;
-                w.at(av, i) += weight * kv;
-                if (last) {
-                    w.at(kGQ, i) = w.at(q0, i) + dt * w.at(aq, i);
-                    w.at(kGV, i) = w.at(v0, i) + dt * w.at(av, i);
-                } else {
-                    w.at(kGQ, i) = w.at(q0, i) + next * dt * kq;
-                    w.at(kGV, i) = w.at(v0, i) + next * dt * kv;
-                }
-            }
-        };
-        return NumericWorkflow::run(r);
-    };
-    return NumericWorkflow::seq(std::vector<NumericWorkflow>{
-        NumericWorkflow::run(save), stage("rk4_k1", 0.0, 1.0 / 6, 0.5, false), stage("rk4_k2", 0.5, 2.0 / 6, 0.5, false),
-        stage("rk4_k3", 0.5, 2.0 / 6, 1.0, false), stage("rk4_k4", 1.0, 1.0 / 6, 0, true)});
+    return detail::rk4_workflow({kGQ, kGV, 2, 3, 4, 5}, all, {}, derivative, layout);
 }
 
 namespace {
