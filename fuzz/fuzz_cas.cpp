@@ -1,6 +1,7 @@
 // libFuzzer target: what `phynjo-cas simplify` and `diff` do with a parsed expression, and
 // the other passes (expand, cse, printers, evaluation). Mathematical errors must come out as
 // typed exceptions (cas::Error), never as crashes, hangs or silent NaN.
+#include "fuzz_budget.hpp"
 #include "phynjo/cas/cas.hpp"
 #include "phynjo/grammar/expression.hpp"
 
@@ -12,11 +13,8 @@
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     if (size > 4096) return 0;
     using namespace phynjo;
-    const std::string_view text(reinterpret_cast<const char*>(data), size);
-    cas::Pool pool; // memory and work bounded per input
-    pool.set_node_limit(200'000);
-    pool.set_work_limit(300'000);
-    cas::PoolScope scope(pool);
+    const std::string_view text = phynjo::fuzz::as_text(data, size);
+    const phynjo::fuzz::BoundedPool pool; // memory and work bounded per input
     grammar::DiagnosticSink sink("<fuzz>", text);
     grammar::Positions positions(text);
     auto tree = grammar::parse_expression(text, positions, sink);

@@ -1,6 +1,7 @@
 // libFuzzer target: the expression parser and the conversion to CAS expressions.
 // Property checked besides "no crash": a parsed expression prints to text that parses back
 // to the same expression.
+#include "fuzz_budget.hpp"
 #include "phynjo/cas/cas.hpp"
 #include "phynjo/grammar/expression.hpp"
 
@@ -10,11 +11,8 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     if (size > 8192) return 0;
-    const std::string_view text(reinterpret_cast<const char*>(data), size);
-    phynjo::cas::Pool pool; // memory and work bounded per input
-    pool.set_node_limit(200'000);
-    pool.set_work_limit(300'000);
-    phynjo::cas::PoolScope scope(pool);
+    const std::string_view text = phynjo::fuzz::as_text(data, size);
+    const phynjo::fuzz::BoundedPool pool; // memory and work bounded per input
     phynjo::grammar::DiagnosticSink sink("<fuzz>", text);
     phynjo::grammar::Positions positions(text);
     if (auto tree = phynjo::grammar::parse_expression(text, positions, sink)) {

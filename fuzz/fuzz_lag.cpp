@@ -1,5 +1,5 @@
 // libFuzzer target: the whole .lag front end, the derivation and every emitter.
-#include "phynjo/cas/pool.hpp"
+#include "fuzz_budget.hpp"
 #include "phynjo/codegen/emit.hpp"
 #include "phynjo/codegen/equations.hpp"
 #include "phynjo/codegen/frontend.hpp"
@@ -9,11 +9,8 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     if (size > 8192) return 0;
-    const std::string_view text(reinterpret_cast<const char*>(data), size);
-    phynjo::cas::Pool pool; // memory and work bounded per input
-    pool.set_node_limit(200'000);
-    pool.set_work_limit(300'000);
-    phynjo::cas::PoolScope scope(pool);
+    const std::string_view text = phynjo::fuzz::as_text(data, size);
+    const phynjo::fuzz::BoundedPool pool; // memory and work bounded per input
     phynjo::grammar::DiagnosticSink sink("fuzz.lag", text);
     auto model = phynjo::codegen::read_model(text, "fuzz.lag", sink);
     if (model) {
