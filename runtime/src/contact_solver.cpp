@@ -387,15 +387,11 @@ void Solver::warm_start(const World& w) {
 
 void Solver::collisions(double dt) {
     const bool jacobi = options_.scheme == ContactScheme::jacobi;
-    std::vector<Body>* target = &bodies_;
     std::vector<Body> snapshot; // Jacobi only (allocates; the seed's scheme is not the fast path)
     for (int it = 0; it < options_.restitution_iterations; ++it) {
         bool any = false;
-        if (jacobi) {
-            snapshot = bodies_;
-            target = &bodies_;
-        }
-        const std::vector<Body>& from = jacobi ? snapshot : bodies_;
+        if (jacobi) snapshot = bodies_;
+        const std::vector<Body>& from = jacobi ? snapshot : bodies_; // read; impulses go to bodies_
         for (Row& c : rows_) {
             const Body& A = from[c.a];
             const Body& B = from[c.b];
@@ -415,8 +411,8 @@ void Solver::collisions(double dt) {
                 l1 *= s;
                 l2 *= s;
             }
-            apply_normal(c, j, *target);
-            apply_tangent(c, l1, l2, *target);
+            apply_normal(c, j, bodies_);
+            apply_tangent(c, l1, l2, bodies_);
         }
         if (!any) break;
     }
