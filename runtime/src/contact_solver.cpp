@@ -54,7 +54,8 @@ struct Row {
     double sep, bias;            // separation, minimum normal velocity
     double mu;
     double jn, jt1, jt2;         // accumulated impulses
-    bool resting;                // carried a load in the previous step (found in the cache)
+    int slot;                    // its warm-start slot in the cache, −1 if none: a contact with
+                                 // a slot carried a load in the previous step (it is resting)
 };
 
 inline double dot(const double* a, const double* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
@@ -82,6 +83,23 @@ void tangent_basis(const double* n, double* t1, double* t2) {
     t2[0] = n[1] * t1[2] - n[2] * t1[1];
     t2[1] = n[2] * t1[0] - n[0] * t1[2];
     t2[2] = n[0] * t1[1] - n[1] * t1[0];
+}
+
+/// The tangential velocity (v_t1, v_t2) of the contact point of b relative to a's (file comment).
+inline void tangent_velocity(const Row& c, const Body& A, const Body& B, double& vt1, double& vt2) {
+    const double dv[3] = {A.v[0] - B.v[0], A.v[1] - B.v[1], A.v[2] - B.v[2]};
+    vt1 = dot(dv, c.t1) - c.ra * dot(A.w, c.t2) - c.rb * dot(B.w, c.t2);
+    vt2 = dot(dv, c.t2) + c.ra * dot(A.w, c.t1) + c.rb * dot(B.w, c.t1);
+}
+
+/// Coulomb's disk: scales (x, y) back onto the circle of radius lim if it lies outside.
+inline void clamp_disk(double& x, double& y, double lim) {
+    const double mag = std::sqrt(x * x + y * y);
+    if (mag > lim) {
+        const double s = mag > 0 ? lim / mag : 0;
+        x *= s;
+        y *= s;
+    }
 }
 
 class Solver {
@@ -117,11 +135,12 @@ private:
     void correct_positions();
     void setup_rows(double dt);
     void warm_start(const World& w);
-    void mark_resting(const World& w);
-    const Slot* find_slot(const World& w, const Row& c) const;
+    void find_slots(const World& w);
     void collisions(double dt);
     void solve_contacts();
     void scatter(World& w) const;
+    /// The unit normal n (from b towards a) and the signed separation at the current positions.
+    double geometry(const Row& c, double* n) const;
     void store_cache(World& w) const;
     double curve(const MaterialCurve& c, double speed, bool restitution) const;
 
@@ -221,8 +240,26 @@ void Solver::detect(const World& w, double dt) {
         r.b = k.plane >= 0 ? stat : local_[k.b];
         r.plane = k.plane;
         r.jn = r.jt1 = r.jt2 = 0;
-        r.resting = false;
+        r.slot = -1;
     }
+}
+
+double Solver::geometry(const Row& c, double* n) const {
+    const Body& A = bodies_[c.a];
+    if (c.plane >= 0) {
+        const Plane& pl = planes_[static_cast<std::size_t>(c.plane)];
+        n[0] = pl.normal.x(), n[1] = pl.normal.y(), n[2] = pl.normal.z();
+        return dot(n, A.p) - pl.offset - A.r;
+    }
+    const Body& B = bodies_[c.b];
+    const double d[3] = {A.p[0] - B.p[0], A.p[1] - B.p[1], A.p[2] - B.p[2]};
+    const double l = std::sqrt(dot(d, d));
+    if (l > 0) {
+        n[0] = d[0] / l, n[1] = d[1] / l, n[2] = d[2] / l;
+    } else {
+        n[0] = 0, n[1] = 1, n[2] = 0;
+    }
+    return l - A.r - B.r;
 }
 
 void Solver::correct_positions() {
@@ -234,22 +271,8 @@ void Solver::correct_positions() {
         bool any = false;
         for (Row& c : rows_) {
             Body& A = bodies_[c.a];
-            double n[3], sep;
-            if (c.plane >= 0) {
-                const Plane& pl = planes_[static_cast<std::size_t>(c.plane)];
-                n[0] = pl.normal.x(), n[1] = pl.normal.y(), n[2] = pl.normal.z();
-                sep = dot(n, A.p) - pl.offset - A.r;
-            } else {
-                const Body& Bb = bodies_[c.b];
-                double d[3] = {A.p[0] - Bb.p[0], A.p[1] - Bb.p[1], A.p[2] - Bb.p[2]};
-                const double l = std::sqrt(dot(d, d));
-                if (l > 0) {
-                    n[0] = d[0] / l, n[1] = d[1] / l, n[2] = d[2] / l;
-                } else {
-                    n[0] = 0, n[1] = 1, n[2] = 0;
-                }
-                sep = l - A.r - Bb.r;
-            }
+            double n[3];
+            const double sep = geometry(c, n);
             const double depth = -sep - slop;
             if (depth <= 0) continue;
             any = true;
@@ -291,22 +314,8 @@ void Solver::setup_rows(double dt) {
         const Body& B = bodies_[c.b];
         const double sa = jacobi ? split_[c.a] : 1.0, sb = jacobi ? split_[c.b] : 1.0;
         c.ra = A.r;
-        if (c.plane >= 0) {
-            const Plane& pl = planes_[static_cast<std::size_t>(c.plane)];
-            c.n[0] = pl.normal.x(), c.n[1] = pl.normal.y(), c.n[2] = pl.normal.z();
-            c.sep = dot(c.n, A.p) - pl.offset - A.r;
-            c.rb = 0;
-        } else {
-            double d[3] = {A.p[0] - B.p[0], A.p[1] - B.p[1], A.p[2] - B.p[2]};
-            const double l = std::sqrt(dot(d, d));
-            if (l > 0) {
-                c.n[0] = d[0] / l, c.n[1] = d[1] / l, c.n[2] = d[2] / l;
-            } else {
-                c.n[0] = 0, c.n[1] = 1, c.n[2] = 0;
-            }
-            c.sep = l - A.r - B.r;
-            c.rb = B.r;
-        }
+        c.rb = c.plane >= 0 ? 0.0 : B.r;
+        c.sep = geometry(c, c.n);
         tangent_basis(c.n, c.t1, c.t2);
         const double im = sa * A.im + sb * B.im;
         c.mn = 1 / im;
@@ -314,9 +323,8 @@ void Solver::setup_rows(double dt) {
         c.mt2 = 1 / (im + sa * c.ra * c.ra * quad(A.ii, c.t1) + sb * c.rb * c.rb * quad(B.ii, c.t1));
         c.bias = -std::max(c.sep, 0.0) / dt;
         // μ from the sliding speed before the solve.
-        double dv[3] = {A.v[0] - B.v[0], A.v[1] - B.v[1], A.v[2] - B.v[2]};
-        const double vt1 = dot(dv, c.t1) - c.ra * dot(A.w, c.t2) - c.rb * dot(B.w, c.t2);
-        const double vt2 = dot(dv, c.t2) + c.ra * dot(A.w, c.t1) + c.rb * dot(B.w, c.t1);
+        double vt1, vt2;
+        tangent_velocity(c, A, B, vt1, vt2);
         c.mu = curve(material_.friction, std::sqrt(vt1 * vt1 + vt2 * vt2), false);
     }
 }
@@ -348,38 +356,33 @@ void Solver::apply_tangent(Row& c, double l1, double l2, std::vector<Body>& B) c
     }
 }
 
-const Solver::Slot* Solver::find_slot(const World& w, const Row& c) const {
-    const Index a = ids_[c.a];
-    const double key = c.plane >= 0 ? -(c.plane + 1.0) : ids_[c.b] + 1.0;
-    for (const Slot& s : slots_) {
-        const double p = w.at(s.partner, a);
-        if (p == 0) break; // slots are filled from the front
-        if (p == key) return &s;
-    }
-    return nullptr;
-}
-
-void Solver::mark_resting(const World& w) {
+void Solver::find_slots(const World& w) {
     if (slots_.empty()) return;
-    for (Row& c : rows_) c.resting = find_slot(w, c) != nullptr;
+    for (Row& c : rows_) {
+        const Index a = ids_[c.a];
+        const double key = c.plane >= 0 ? -(c.plane + 1.0) : ids_[c.b] + 1.0;
+        for (std::size_t k = 0; k < slots_.size(); ++k) {
+            const double p = w.at(slots_[k].partner, a);
+            if (p == 0) break; // slots are filled from the front
+            if (p == key) {
+                c.slot = static_cast<int>(k);
+                break;
+            }
+        }
+    }
 }
 
 void Solver::warm_start(const World& w) {
     if (slots_.empty()) return;
     for (Row& c : rows_) {
-        const Slot* s = find_slot(w, c);
-        if (!s) continue;
+        if (c.slot < 0) continue;
+        const Slot* s = &slots_[static_cast<std::size_t>(c.slot)];
         const Index a = ids_[c.a];
         const double jt[3] = {w.at(s->jtx, a), w.at(s->jty, a), w.at(s->jtz, a)};
         c.jn = w.at(s->jn, a);
         c.jt1 = dot(jt, c.t1);
         c.jt2 = dot(jt, c.t2);
-        const double lim = c.mu * c.jn, mag = std::sqrt(c.jt1 * c.jt1 + c.jt2 * c.jt2);
-        if (mag > lim) {
-            const double k = mag > 0 ? lim / mag : 0;
-            c.jt1 *= k;
-            c.jt2 *= k;
-        }
+        clamp_disk(c.jt1, c.jt2, c.mu * c.jn);
         apply_normal(c, c.jn, bodies_);
         apply_tangent(c, c.jt1, c.jt2, bodies_);
     }
@@ -397,20 +400,15 @@ void Solver::collisions(double dt) {
             const Body& B = from[c.b];
             double dv[3] = {A.v[0] - B.v[0], A.v[1] - B.v[1], A.v[2] - B.v[2]};
             const double vn = dot(dv, c.n);
-            if (c.resting || vn >= 0 || c.sep + vn * dt >= 0) continue;
+            if (c.slot >= 0 || vn >= 0 || c.sep + vn * dt >= 0) continue;
             const double e = curve(material_.restitution, -vn, true);
             if (e == 0) continue;
             any = true;
             const double j = -(1 + e) * vn * c.mn;
-            const double vt1 = dot(dv, c.t1) - c.ra * dot(A.w, c.t2) - c.rb * dot(B.w, c.t2);
-            const double vt2 = dot(dv, c.t2) + c.ra * dot(A.w, c.t1) + c.rb * dot(B.w, c.t1);
+            double vt1, vt2;
+            tangent_velocity(c, A, B, vt1, vt2);
             double l1 = -vt1 * c.mt1, l2 = -vt2 * c.mt2;
-            const double mag = std::sqrt(l1 * l1 + l2 * l2), lim = c.mu * j;
-            if (mag > lim) {
-                const double s = mag > 0 ? lim / mag : 0;
-                l1 *= s;
-                l2 *= s;
-            }
+            clamp_disk(l1, l2, c.mu * j);
             apply_normal(c, j, bodies_);
             apply_tangent(c, l1, l2, bodies_);
         }
@@ -429,16 +427,10 @@ void Solver::solve_contacts() {
             {
                 const Body& A = from[c.a];
                 const Body& B = from[c.b];
-                double dv[3] = {A.v[0] - B.v[0], A.v[1] - B.v[1], A.v[2] - B.v[2]};
-                const double vt1 = dot(dv, c.t1) - c.ra * dot(A.w, c.t2) - c.rb * dot(B.w, c.t2);
-                const double vt2 = dot(dv, c.t2) + c.ra * dot(A.w, c.t1) + c.rb * dot(B.w, c.t1);
+                double vt1, vt2;
+                tangent_velocity(c, A, B, vt1, vt2);
                 double n1 = c.jt1 - vt1 * c.mt1, n2 = c.jt2 - vt2 * c.mt2;
-                const double lim = c.mu * c.jn, mag = std::sqrt(n1 * n1 + n2 * n2);
-                if (mag > lim) {
-                    const double s = mag > 0 ? lim / mag : 0;
-                    n1 *= s;
-                    n2 *= s;
-                }
+                clamp_disk(n1, n2, c.mu * c.jn);
                 const double l1 = n1 - c.jt1, l2 = n2 - c.jt2;
                 c.jt1 = n1;
                 c.jt2 = n2;
@@ -494,10 +486,10 @@ void Solver::step(double dt, World& w) {
     detect(w, dt);
     correct_positions();
     setup_rows(dt);
+    find_slots(w); // cached contacts are resting: no restitution for them
     // Collisions see the velocities before any contact impulse: the warm start is a first
     // guess at the resting impulses that the contact passes may take back, and an impact
     // computed against it would keep a bounce that the guess only lent.
-    mark_resting(w);
     collisions(dt);
     warm_start(w);
     solve_contacts();

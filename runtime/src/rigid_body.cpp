@@ -5,6 +5,7 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 
+#include <cassert>
 #include <cmath>
 #include <sstream>
 
@@ -81,6 +82,7 @@ World make_rigid_world(const Registry& components, const std::vector<RigidBody>&
     std::vector<std::string> fields{"x",   "y",   "z",   "vx",  "vy",   "vz",   "m",    "wx",   "wy",   "wz",
                                     "qw",  "qx",  "qy",  "qz",  "inv_m", "Ixx", "Iyy", "Izz", "Ixy", "Ixz",
                                     "Iyz", "iIxx", "iIyy", "iIzz", "iIxy", "iIxz", "iIyz", "radius"};
+    assert(fields.size() == kRigidFieldCount); // the field ids of rigid_body.hpp
     fields.insert(fields.end(), extra_fields.begin(), extra_fields.end());
     if (bodies.size() != components.size())
         throw std::invalid_argument("make_rigid_world: " + std::to_string(bodies.size()) + " bodies for " +
