@@ -108,6 +108,21 @@ std::size_t slot_of(std::uint64_t key, std::size_t mask) {
 
 } // namespace
 
+namespace {
+/// The largest cell table find_pairs builds for n boxes: dense up to 4n + 1024 cells, hashed
+/// with the smallest power of two ≥ 2n slots (< 4n).
+std::size_t table_bound(std::size_t n) { return 4 * n + 1024; }
+} // namespace
+
+void UniformGrid::reserve(std::size_t boxes) {
+    keys_.reserve(boxes);
+    sorted_.reserve(boxes);
+    scratch_.reserve(boxes);
+    table_keys_.reserve(table_bound(boxes));
+    table_begin_.reserve(table_bound(boxes));
+    table_count_.reserve(table_bound(boxes));
+}
+
 void UniformGrid::find_pairs(std::span<const AABB> boxes, std::vector<CandidatePair>& out) {
     check_boxes(boxes);
     out.clear();
@@ -144,7 +159,7 @@ void UniformGrid::find_pairs(std::span<const AABB> boxes, std::vector<CandidateP
     // Cell table: dense (direct indexing) when the occupied box of cells is small next to n,
     // as in piles and gases; hashed (open addressing) when the scene is sparse.
     const double cells = static_cast<double>(ext[0]) * static_cast<double>(ext[1]) * static_cast<double>(ext[2]);
-    const bool dense = cells <= 4.0 * static_cast<double>(n) + 1024;
+    const bool dense = cells <= static_cast<double>(table_bound(n));
     std::size_t cap = 16, mask = 0;
     if (dense) {
         cap = static_cast<std::size_t>(cells);
@@ -228,6 +243,13 @@ void CollisionManager::update(std::span<const AABB> boxes) { boxes_.assign(boxes
 void CollisionManager::update(std::span<const SphereBB> spheres) {
     boxes_.resize(spheres.size());
     for (std::size_t i = 0; i < spheres.size(); ++i) boxes_[i] = aabb_from_sphere(spheres[i]);
+}
+
+void CollisionManager::reserve(std::size_t volumes, std::size_t pairs) {
+    boxes_.reserve(volumes);
+    pairs_.reserve(pairs);
+    sap_.reserve(volumes);
+    grid_.reserve(volumes);
 }
 
 const std::vector<CandidatePair>& CollisionManager::run_broad_phase() {

@@ -102,6 +102,10 @@ inline void clamp_disk(double& x, double& y, double lim) {
     }
 }
 
+/// Contacts per body the scratch is reserved for (12 equal spheres can touch one; the
+/// warm-start cache keeps 16 by default).
+constexpr std::size_t kReservedContactsPerBody = 16;
+
 class Solver {
 public:
     Solver(const ComponentSet& bodies, std::vector<Plane> planes, ContactMaterial material, ContactOptions options,
@@ -121,6 +125,20 @@ public:
             slots_.push_back({static_cast<FieldId>(p), layout_->field("wc_jn#" + s), layout_->field("wc_jtx#" + s),
                               layout_->field("wc_jty#" + s), layout_->field("wc_jtz#" + s)});
         }
+        // Scratch for kReservedContactsPerBody sphere contacts per body and one per plane,
+        // reserved now so that steps allocate nothing while contacts appear (a falling pile);
+        // a scene beyond that grows it once.
+        const std::size_t n = ids_.size();
+        const std::size_t contacts = n * (kReservedContactsPerBody + planes_.size());
+        bodies_.reserve(n + 1);
+        snapshot_.reserve(n + 1);
+        spheres_.reserve(n);
+        contacts_.reserve(contacts);
+        rows_.reserve(contacts);
+        delta_.reserve(3 * (n + 1));
+        split_.reserve(n + 1);
+        local_.reserve(layout_->components.size());
+        manager_.reserve(n, n * kReservedContactsPerBody);
     }
 
     void step(double dt, World& w);
@@ -159,6 +177,7 @@ private:
 
     // scratch, reused every step (no steady-state allocation)
     std::vector<Body> bodies_; // ids_.size() bodies, then one static body
+    std::vector<Body> snapshot_; // Jacobi: the bodies at the start of a pass
     std::vector<SphereBB> spheres_;
     std::vector<Contact> contacts_;
     std::vector<Row> rows_;
@@ -390,11 +409,10 @@ void Solver::warm_start(const World& w) {
 
 void Solver::collisions(double dt) {
     const bool jacobi = options_.scheme == ContactScheme::jacobi;
-    std::vector<Body> snapshot; // Jacobi only (allocates; the seed's scheme is not the fast path)
     for (int it = 0; it < options_.restitution_iterations; ++it) {
         bool any = false;
-        if (jacobi) snapshot = bodies_;
-        const std::vector<Body>& from = jacobi ? snapshot : bodies_; // read; impulses go to bodies_
+        if (jacobi) snapshot_ = bodies_;
+        const std::vector<Body>& from = jacobi ? snapshot_ : bodies_; // read; impulses go to bodies_
         for (Row& c : rows_) {
             const Body& A = from[c.a];
             const Body& B = from[c.b];
@@ -418,10 +436,9 @@ void Solver::collisions(double dt) {
 
 void Solver::solve_contacts() {
     const bool jacobi = options_.scheme == ContactScheme::jacobi;
-    std::vector<Body> snapshot;
     for (int it = 0; it < options_.velocity_iterations; ++it) {
-        if (jacobi) snapshot = bodies_;
-        const std::vector<Body>& from = jacobi ? snapshot : bodies_;
+        if (jacobi) snapshot_ = bodies_;
+        const std::vector<Body>& from = jacobi ? snapshot_ : bodies_;
         for (Row& c : rows_) {
             // Friction first, limited by the normal impulse of the previous pass.
             {

@@ -101,7 +101,7 @@ TEST_CASE("n-link cart: the cart's momentum is conserved (q0 is cyclic), energy 
     CHECK(sys.energy(w.time, w.field(kGQ), w.field(kGV)) == Approx(e0).epsilon(1e-8));
 }
 
-TEST_CASE("cart-pole: friction only removes energy; a push moves the cart", "[codegen][generated]") {
+TEST_CASE("cart-pole: friction only removes energy, and a push moves the cart", "[codegen][generated]") {
     cart_pole::Parameters P; // b = 0.1, F = 0
     World w = cart_pole::make_world(P);
     w.at(kGV, 0) = 1.0;
@@ -127,7 +127,7 @@ TEST_CASE("cart-pole: friction only removes energy; a push moves the cart", "[co
     CHECK(acc[1] == Approx(-3 * acc[0] / (4 * 0.5)));
 }
 
-TEST_CASE("integrators for generated models agree; Dormand-Prince meets its tolerance", "[codegen][generated]") {
+TEST_CASE("integrators for generated models agree, and Dormand-Prince meets its tolerance", "[codegen][generated]") {
     spring_pendulum::Parameters P;
     const auto sys = spring_pendulum::system(P);
     World a = spring_pendulum::make_world(P), b = a;

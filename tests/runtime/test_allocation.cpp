@@ -7,6 +7,7 @@
 #include <atomic>
 #include <cstdlib>
 #include <new>
+#include <random>
 
 #include "counting_allocator.hpp"
 
@@ -22,6 +23,32 @@ long count(F&& f) {
     return allocations.load() - before;
 }
 } // namespace
+
+namespace {
+void* volatile sink; // keeps the compiler from eliding an allocation/free pair
+} // namespace
+
+// Catches: a blind counter (one that sees only operator new) under which a World copied in
+// every step, or any malloc/aligned_alloc in a step, would pass the tests below.
+TEST_CASE("the allocation counter sees every allocation path", "[runtime][allocation]") {
+    auto one = [](auto&& allocate_and_free) { return count(allocate_and_free); };
+    CHECK(one([] { sink = std::malloc(24); std::free(sink); }) == 1);
+    CHECK(one([] { sink = std::calloc(3, 8); std::free(sink); }) == 1);
+    CHECK(one([] { sink = std::aligned_alloc(64, 128); std::free(sink); }) == 1);
+    int rc = -1;
+    CHECK(one([&] { void* p = nullptr; rc = posix_memalign(&p, 64, 128); sink = p; std::free(sink); }) == 1);
+    CHECK(rc == 0);
+    CHECK(one([] { sink = new double(1); delete static_cast<double*>(sink); }) == 1);
+    CHECK(one([] { sink = new double[5]; delete[] static_cast<double*>(sink); }) == 1);
+    struct alignas(64) Wide { double x[8]; };
+    CHECK(one([] { sink = new Wide; delete static_cast<Wide*>(sink); }) == 1);
+    CHECK(one([] { sink = new (std::nothrow) char[7]; delete[] static_cast<char*>(sink); }) == 1);
+    // World storage is aligned: copying a world must be seen
+    Registry r;
+    r.add("a");
+    const World w = make_nstate(r);
+    CHECK(count([&] { World copy = w; sink = &copy; }) >= 1);
+}
 
 TEST_CASE("steady-state steps allocate nothing", "[runtime][allocation]") {
     SECTION("1-D leapfrog with springs, gravity and drag") {
@@ -74,5 +101,37 @@ TEST_CASE("steady-state steps allocate nothing", "[runtime][allocation]") {
                                      ContactMaterial{restitution_curve(0.5, 0.2), constant_curve(0.5)}, {}, w.layout_ptr()));
         s.run(w, 1.0 / 240, 480); // settle: scratch grows to the largest contact count
         CHECK(count([&] { s.run(w, 1.0 / 240, 240); }) == 0);
+    }
+    SECTION("rigid spheres with contacts: a pile while it falls, lands and piles up") {
+        // Catches: scratch (contact lists, broad-phase cells, warm-start slots) that grows
+        // as contacts appear; the settled pile above never sees new contacts.
+        Registry r;
+        std::vector<RigidInit> init;
+        std::mt19937_64 rng(11);
+        std::uniform_real_distribution<double> jitter(-0.01, 0.01);
+        for (int i = 0; i < 4; ++i)
+            for (int j = 0; j < 6; ++j)
+                for (int k = 0; k < 4; ++k) {
+                    r.add("s" + std::to_string(init.size()));
+                    RigidInit s;
+                    s.position = {0.07 + 0.11 * i + jitter(rng), 0.3 + 0.15 * j, 0.07 + 0.11 * k + jitter(rng)};
+                    init.push_back(s);
+                }
+        World w = make_rigid_world(r, std::vector<RigidBody>(init.size(), RigidBody::solid_sphere(1, 0.05)), init,
+                                   contact_cache_fields());
+        const std::vector<Plane> planes{Plane::ground(), Plane{{1, 0, 0}, 0}, Plane{{-1, 0, 0}, -0.48},
+                                        Plane{{0, 0, 1}, 0}, Plane{{0, 0, -1}, -0.48}};
+        for (ContactScheme scheme : {ContactScheme::gauss_seidel, ContactScheme::jacobi}) {
+            World u = w;
+            ContactOptions o;
+            o.scheme = scheme;
+            Stepper s(rigid_contact_step(Force3D::gravity(9.81), all_bodies(u), planes,
+                                         ContactMaterial{restitution_curve(0.5, 0.2), constant_curve(0.5)}, o, u.layout_ptr()));
+            s.step(u, 1.0 / 240); // first step: no contact yet
+            INFO((scheme == ContactScheme::jacobi ? "Jacobi" : "Gauss-Seidel"));
+            CHECK(count([&] { s.run(u, 1.0 / 240, 480); }) == 0);
+            CHECK(u.at(kY, 0) < 0.1); // the lowest sphere fell and landed
+            CHECK(u.at(kY, 23) < 0.9); // the upper ones piled up on it
+        }
     }
 }

@@ -40,6 +40,8 @@ public:
     /// out ← every intersecting pair. Throws std::invalid_argument for a non-finite or
     /// inverted box (naming its index).
     void find_pairs(std::span<const AABB> boxes, std::vector<CandidatePair>& out);
+    /// Reserves the scratch for `boxes` boxes: later calls with at most that many allocate nothing.
+    void reserve(std::size_t boxes) { order_.reserve(boxes); }
 
 private:
     std::vector<Index> order_;
@@ -56,6 +58,9 @@ public:
     /// out ← every intersecting pair. Throws std::invalid_argument for a non-finite or
     /// inverted box (naming its index).
     void find_pairs(std::span<const AABB> boxes, std::vector<CandidatePair>& out);
+    /// Reserves the scratch (cell tables included, dense or hashed) for `boxes` boxes: later
+    /// calls with at most that many allocate nothing.
+    void reserve(std::size_t boxes);
     /// The cell size used by the last call, m.
     [[nodiscard]] double cell_size() const noexcept { return cell_; }
 

@@ -18,6 +18,9 @@ public:
     /// updateManager: the current volumes (copied; reuses storage, no steady-state allocation).
     void update(std::span<const AABB> boxes);
     void update(std::span<const SphereBB> spheres);
+    /// Reserves storage for `volumes` volumes and `pairs` candidate pairs: later steps within
+    /// those counts allocate nothing.
+    void reserve(std::size_t volumes, std::size_t pairs);
     /// runBroadPhase: the intersecting pairs of the current volumes, sorted (a < b). The
     /// reference stays valid until the next call.
     const std::vector<CandidatePair>& run_broad_phase();
