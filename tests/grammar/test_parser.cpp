@@ -100,6 +100,8 @@ TEST_CASE("hostile input gets a diagnostic, not a crash", "[grammar]") {
     CHECK(parse(sum)->nargs == 20000);
     std::string negations(100000, '-');
     CHECK(parse(negations + "x") == cas::symbol("x"));
-    CHECK(parse("x" + std::string(16, '\'')) == parse("x" + std::string(16, '\'')));
+    Expr x16 = cas::symbol("x"); // the 16th time derivative, the highest order allowed
+    for (int i = 0; i < 16; ++i) x16 = cas::velocity(x16);
+    CHECK(parse("x" + std::string(16, '\'')) == x16);
     CHECK_THROWS_WITH(parse("x" + std::string(17, '\'')), Catch::Contains("order above 16"));
 }

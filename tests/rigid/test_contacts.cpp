@@ -296,5 +296,125 @@ TEST_CASE("sphere-sphere impacts with anisotropic inertia conserve momentum and 
         CHECK((velocity(x, 0) - velocity(w, 0)).norm() > 0.1); // they collided
         CHECK((total_linear_momentum(x) - p0).norm() < 1e-13 * p0.norm());
         CHECK((total_angular_momentum(x) - l0).norm() < 1e-12 * l0.norm());
+        // The conservation laws hold for an impulse of any size; the size is Newton's law at
+        // the contact point: the normal relative velocity there reverses with factor e (the
+        // lever arms are parallel to n, so neither friction nor the inertia tensors couple
+        // into it). Catches a wrong effective mass with world inertia tensors.
+        auto vn = [&](const World& y) {
+            const Eigen::Vector3d ca = velocity(y, 0) + angular_velocity(y, 0).cross(-0.1 * n);
+            const Eigen::Vector3d cb = velocity(y, 1) + angular_velocity(y, 1).cross(0.2 * n);
+            return (ca - cb).dot(n);
+        };
+        CHECK(vn(w) < 0);
+        CHECK(vn(x) == Approx(-0.8 * vn(w)).epsilon(1e-12));
     }
+}
+
+namespace {
+
+/// Two solid spheres a (left) and b on the x axis, touching (gap 0) or `gap` apart.
+World sphere_pair(double ma, double ra, double mb, double rb, const Eigen::Vector3d& va, const Eigen::Vector3d& vb,
+                  double gap = 0) {
+    Registry reg;
+    reg.add("a");
+    reg.add("b");
+    std::vector<RigidInit> s(2);
+    s[0].position = {-(ra + rb + gap), 0, 0};
+    s[0].velocity = va;
+    s[1].velocity = vb;
+    return make_rigid_world(reg, {RigidBody::solid_sphere(ma, ra), RigidBody::solid_sphere(mb, rb)}, s);
+}
+
+/// One application of the sphere-sphere contact rule.
+World contact_once(World w, const ContactMaterial& mat, ContactOptions o = {}) {
+    Stepper st(NumericWorkflow::run(contact_spheres(all_bodies(w), mat, o, w.layout_ptr())));
+    st.step(w, 1e-3);
+    return w;
+}
+
+} // namespace
+
+// Catches: a restitution applied squared or not at all between spheres (the e = 1 cradle
+// cannot tell e from e²), a wrong reduced mass in the sphere-pair impulse.
+TEST_CASE("two-sphere head-on impacts: outgoing relative speed is e times incoming, momentum kept", "[contact][physics]") {
+    for (double e : {0.0, 0.25, 0.5, 0.9, 1.0}) {
+        const World w = sphere_pair(1.0, 0.1, 3.0, 0.2, {2.0, 0, 0}, {-0.5, 0, 0});
+        const World x = contact_once(w, ContactMaterial{constant_curve(e), constant_curve(0)});
+        const double before = w.at(kVX, 0) - w.at(kVX, 1), after = x.at(kVX, 1) - x.at(kVX, 0);
+        INFO("e = " << e << ": approach " << before << " m/s, separation " << after << " m/s");
+        CHECK(after == Approx(e * before).margin(1e-12));
+        CHECK(total_linear_momentum(x).x() == Approx(total_linear_momentum(w).x()).epsilon(1e-14));
+        // the same through whole steps from a gap: the impact happens inside the run
+        World y = sphere_pair(1.0, 0.1, 3.0, 0.2, {2.0, 0, 0}, {-0.5, 0, 0}, 0.01);
+        Stepper s(rigid_contact_step(Force3D{}, all_bodies(y), {}, ContactMaterial{constant_curve(e), constant_curve(0)}, {},
+                                     y.layout_ptr()));
+        s.run(y, 1e-3, 50);
+        CHECK(y.at(kVX, 1) - y.at(kVX, 0) == Approx(e * before).margin(1e-12));
+    }
+}
+
+// Catches: a threshold compared the wrong way, on the wrong speed (relative vs absolute),
+// or ignored (restitution_curve(e, v*) must give 0 below v* and e above).
+TEST_CASE("restitution threshold: a sphere pair bounces just above it and not just below", "[contact][physics]") {
+    const double e = 0.8, threshold = 1.0;
+    for (double speed : {0.99, 1.01}) {
+        // b moves too: the threshold applies to the relative approach speed, not a's speed
+        const World w = sphere_pair(1.0, 0.1, 1.0, 0.1, {0.7 * speed, 0, 0}, {-0.3 * speed, 0, 0});
+        const World x = contact_once(w, ContactMaterial{restitution_curve(e, threshold), constant_curve(0)});
+        const double after = x.at(kVX, 1) - x.at(kVX, 0);
+        INFO("approach " << speed << " m/s, separation " << after << " m/s");
+        CHECK(after == Approx(speed < threshold ? 0.0 : e * speed).margin(1e-12));
+    }
+}
+
+// Catches: friction between spheres missing, unclipped (no Coulomb limit), clipped to the
+// wrong normal impulse, or with a wrong tangential effective mass (lever arms r²/I).
+TEST_CASE("oblique sphere-sphere impacts: Coulomb friction sticks or slides as the impulse bound says", "[contact][physics]") {
+    // a (1 kg) hits b (2 kg) along x at 2 m/s with a sideways speed vy; no spin. With
+    // e = 0.5 the normal impulse is j_n = (1 + e) 2 / (1/ma + 1/mb) = 2 N s. For solid spheres
+    // r²/I = 5/(2m), so the tangential inverse effective mass is K_t = 7/2 (1/ma + 1/mb) = 5.25
+    // and stopping the slip takes j = vy / K_t; Coulomb allows at most μ j_n.
+    const double ma = 1, mb = 2, r = 0.1, jn = 2.0, Kt = 3.5 * (1 / ma + 1 / mb);
+    struct Case {
+        double vy, mu;
+        bool sticks;
+    };
+    for (const Case c : {Case{3.0, 0.2, false}, Case{0.3, 0.5, true}}) {
+        const World w = sphere_pair(ma, r, mb, r, {2.0, c.vy, 0}, {0, 0, 0});
+        const World x = contact_once(w, ContactMaterial{constant_curve(0.5), constant_curve(c.mu)});
+        const double jt = c.sticks ? c.vy / Kt : c.mu * jn;
+        // contact point velocities: a touches b at +r x̂ from its centre, b at −r x̂ from its own
+        const Eigen::Vector3d ra(r, 0, 0), rb(-r, 0, 0);
+        const Eigen::Vector3d slip = (velocity(x, 0) + angular_velocity(x, 0).cross(ra)) -
+                                     (velocity(x, 1) + angular_velocity(x, 1).cross(rb));
+        INFO("vy = " << c.vy << ", mu = " << c.mu << ": slip after " << slip.transpose());
+        CHECK(x.at(kVY, 0) == Approx(c.vy - jt / ma).margin(1e-12));
+        CHECK(x.at(kVY, 1) == Approx(jt / mb).margin(1e-12));
+        CHECK(slip.y() == Approx(c.sticks ? 0.0 : c.vy - jt * Kt).margin(1e-12));
+        CHECK(slip.x() == Approx(-0.5 * 2.0).margin(1e-12)); // a moves away from b at e × 2 m/s
+        CHECK(total_angular_momentum(x).isApprox(total_angular_momentum(w), 1e-12));
+    }
+}
+
+// Catches: a position correction split evenly instead of by inverse mass (the centre of mass
+// would move), applied with the wrong sign or count of passes, or leaking into velocities.
+TEST_CASE("a deep sphere-pair overlap is corrected along the normal, split by inverse mass", "[contact][physics]") {
+    const double ma = 1, mb = 3, r = 0.1, depth = 0.05;
+    const World w = sphere_pair(ma, r, mb, r, {0, 0, 0}, {0, 0, 0}, -depth);
+    ContactOptions o; // β = 0.2, slop 1e-4, 4 passes: depth → slop + (depth − slop)(1 − β)^4
+    const World x = contact_once(w, ContactMaterial{constant_curve(0), constant_curve(0.5)}, o);
+    const double left = o.slop + (depth - o.slop) * std::pow(1 - o.baumgarte, o.position_iterations);
+    const double moved = depth - left, wa = (1 / ma) / (1 / ma + 1 / mb);
+    CHECK(x.at(kX, 0) == Approx(w.at(kX, 0) - wa * moved).margin(1e-15));
+    CHECK(x.at(kX, 1) == Approx(w.at(kX, 1) + (1 - wa) * moved).margin(1e-15));
+    CHECK(ma * x.at(kX, 0) + mb * x.at(kX, 1) == Approx(ma * w.at(kX, 0) + mb * w.at(kX, 1)).margin(1e-15));
+    CHECK(velocity(x, 0).norm() == 0);
+    CHECK(velocity(x, 1).norm() == 0);
+    // repeated steps leave no more than the slop
+    World y = w;
+    Stepper s(rigid_contact_step(Force3D{}, all_bodies(y), {}, ContactMaterial{constant_curve(0), constant_curve(0.5)}, o,
+                                 y.layout_ptr()));
+    s.run(y, 1e-3, 20);
+    CHECK(max_penetration(y, all_bodies(y), {}) == Approx(o.slop).epsilon(1e-3));
+    CHECK(ma * y.at(kX, 0) + mb * y.at(kX, 1) == Approx(ma * w.at(kX, 0) + mb * w.at(kX, 1)).margin(1e-15));
 }

@@ -49,7 +49,7 @@ TEST_CASE("torque-free asymmetric top: the intermediate-axis flip has Landau's p
     const double E0 = rigid_kinetic_energy(w);
     const Eigen::Vector3d L0 = total_angular_momentum(w);
     std::vector<double> crossings;
-    double prev = body_rate(w).y(), worst_e = 0, worst_l = 0, worst_q = 0;
+    double prev = body_rate(w).y(), worst_e = 0, worst_l = 0, worst_q = 0, worst_lmag = 0;
     const int steps = static_cast<int>(3.2 * half_period / dt);
     for (int n = 1; n <= steps; ++n) {
         stepper.step(w, dt);
@@ -58,6 +58,7 @@ TEST_CASE("torque-free asymmetric top: the intermediate-axis flip has Landau's p
         prev = cur;
         worst_e = std::max(worst_e, std::abs(rigid_kinetic_energy(w) - E0) / E0);
         worst_l = std::max(worst_l, (total_angular_momentum(w) - L0).norm() / L0.norm());
+        worst_lmag = std::max(worst_lmag, std::abs(total_angular_momentum(w).norm() - L0.norm()) / L0.norm());
         worst_q = std::max(worst_q, std::abs(orientation(w, 0).norm() - 1));
     }
     INFO("half period " << half_period << " s; crossings at " << (crossings.size() > 0 ? crossings[0] : -1) << ", "
@@ -70,8 +71,10 @@ TEST_CASE("torque-free asymmetric top: the intermediate-axis flip has Landau's p
         CHECK(std::abs(crossings[j + 1] - crossings[j] - half_period) < 1e-4 * half_period);
     // Energy and |M| are quadratic invariants of the implicit-midpoint kick and untouched by the
     // rotation drift: conserved to round-off (5e4 steps). The direction of M is conserved to O(dt²).
-    INFO("energy error " << worst_e << ", angular momentum error " << worst_l << ", |q| - 1 " << worst_q);
+    INFO("energy error " << worst_e << ", |M| error " << worst_lmag << ", angular momentum error " << worst_l
+                         << ", |q| - 1 " << worst_q);
     CHECK(worst_e < 1e-10);
+    CHECK(worst_lmag < 1e-10); // catches a kick that keeps E but not |M| (e.g. a wrong gyroscopic sign)
     CHECK(worst_l < 1e-4);
     CHECK(worst_q < 1e-15);
 }
