@@ -19,7 +19,9 @@ inline void count_allocation() { allocations.fetch_add(1, std::memory_order_rela
 } // namespace phynjo::test
 
 #if defined(__SANITIZE_ADDRESS__)
-#include <sanitizer/allocator_interface.h>
+// From <sanitizer/allocator_interface.h>, which GCC does not install; libasan exports it.
+extern "C" int __sanitizer_install_malloc_and_free_hooks(void (*malloc_hook)(const volatile void*, std::size_t),
+                                                         void (*free_hook)(const volatile void*));
 namespace phynjo::test {
 inline void on_malloc(const volatile void*, std::size_t) { count_allocation(); }
 inline void on_free(const volatile void*) {}

@@ -65,9 +65,9 @@ public:
         : interpreter_(workflow.process(), executor), writes_(workflow.domain()) {}
     /// world ← workflow(dt, world); allocates nothing.
     void step(World& world, double dt) { interpreter_.step(world, dt); }
-    /// `steps` steps of size dt.
+    /// `steps` steps of size dt (through step(): one path for tests and users alike).
     void run(World& world, double dt, std::size_t steps) {
-        for (std::size_t i = 0; i < steps; ++i) interpreter_.step(world, dt);
+        for (std::size_t i = 0; i < steps; ++i) step(world, dt);
     }
     void set_checked(bool on) noexcept { interpreter_.set_checked(on); }
 
