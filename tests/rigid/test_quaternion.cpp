@@ -1,6 +1,6 @@
 // Quaternions: matrix round trips (including half-turns), composition, and the two
 // orientation updates (unit norm kept, exactness, convergence order).
-#include "phynjo/runtime/quaternion.hpp"
+#include "phynjo/runtime/rigid/quaternion.hpp"
 
 #include "property.hpp"
 
@@ -52,7 +52,7 @@ TEST_CASE("matrix to quaternion inverts to_matrix, half-turns included", "[rigid
         RC_ASSERT(distance(Quaternion::from_matrix(q.to_matrix()), q) < 1e-14);
     }, {.cases = 2000});
     // Half-turns (w = 0, trace −1) about each axis and a diagonal: the branches of Shepperd's method.
-    for (const Eigen::Vector3d axis : {Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(0, 1, 0), Eigen::Vector3d(0, 0, 1),
+    for (const Eigen::Vector3d& axis : {Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(0, 1, 0), Eigen::Vector3d(0, 0, 1),
                                        Eigen::Vector3d(1, 1, 1)}) {
         const Quaternion q = Quaternion::from_axis_angle(axis, M_PI);
         CHECK(distance(Quaternion::from_matrix(q.to_matrix()), q) < 1e-15);

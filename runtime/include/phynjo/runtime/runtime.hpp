@@ -1,22 +1,46 @@
 #pragma once
 /// \file
-/// Everything of phynjo::runtime.
-#include "phynjo/runtime/bounding_volume.hpp"
-#include "phynjo/runtime/broad_phase.hpp"
-#include "phynjo/runtime/collision_manager.hpp"
-#include "phynjo/runtime/component.hpp"
-#include "phynjo/runtime/contact.hpp"
-#include "phynjo/runtime/errors.hpp"
-#include "phynjo/runtime/event.hpp"
-#include "phynjo/runtime/executor.hpp"
-#include "phynjo/runtime/forces.hpp"
-#include "phynjo/runtime/integrators.hpp"
-#include "phynjo/runtime/lagrangian.hpp"
-#include "phynjo/runtime/literal.hpp"
-#include "phynjo/runtime/narrow_phase.hpp"
-#include "phynjo/runtime/nbody.hpp"
-#include "phynjo/runtime/numeric.hpp"
-#include "phynjo/runtime/process.hpp"
-#include "phynjo/runtime/quaternion.hpp"
-#include "phynjo/runtime/rigid_body.hpp"
-#include "phynjo/runtime/world.hpp"
+/// Everything of phynjo::runtime, folder by folder (docs/architecture.md): core (components,
+/// worlds, rules, workflows, the Process interpreter, events), particles (NState, 3-D
+/// particles, forces, N-body), rigid bodies, collision, contacts, integrators, and models
+/// (what generated code binds to).
+#include "phynjo/runtime/core/component.hpp"
+#include "phynjo/runtime/core/errors.hpp"
+#include "phynjo/runtime/core/event.hpp"
+#include "phynjo/runtime/core/executor.hpp"
+#include "phynjo/runtime/core/literal.hpp"
+#include "phynjo/runtime/core/process.hpp"
+#include "phynjo/runtime/core/workflow.hpp"
+#include "phynjo/runtime/core/world.hpp"
+
+#include "phynjo/runtime/particles/force1d.hpp"
+#include "phynjo/runtime/particles/force3d.hpp"
+#include "phynjo/runtime/particles/nbody.hpp"
+#include "phynjo/runtime/particles/nstate.hpp"
+#include "phynjo/runtime/particles/particles3d.hpp"
+
+#include "phynjo/runtime/rigid/quaternion.hpp"
+#include "phynjo/runtime/rigid/rigid_body.hpp"
+#include "phynjo/runtime/rigid/rigid_rules.hpp"
+#include "phynjo/runtime/rigid/rigid_world.hpp"
+
+#include "phynjo/runtime/collision/bounding_volume.hpp"
+#include "phynjo/runtime/collision/broad_phase.hpp"
+#include "phynjo/runtime/collision/collision_manager.hpp"
+#include "phynjo/runtime/collision/narrow_phase.hpp"
+
+#include "phynjo/runtime/contact/contact_solver.hpp"
+
+#include "phynjo/runtime/integrators/adaptive_verlet.hpp"
+#include "phynjo/runtime/integrators/dormand_prince.hpp"
+#include "phynjo/runtime/integrators/forest_ruth.hpp"
+#include "phynjo/runtime/integrators/lagrangian_midpoint.hpp"
+#include "phynjo/runtime/integrators/lagrangian_rk4.hpp"
+#include "phynjo/runtime/integrators/leapfrog.hpp"
+#include "phynjo/runtime/integrators/nbody_leapfrog.hpp"
+#include "phynjo/runtime/integrators/rigid_leapfrog.hpp"
+#include "phynjo/runtime/integrators/rk4.hpp"
+#include "phynjo/runtime/integrators/splitting.hpp"
+#include "phynjo/runtime/integrators/symplectic_euler.hpp"
+
+#include "phynjo/runtime/models/generated.hpp"

@@ -1,0 +1,97 @@
+#pragma once
+/// \file
+/// Contacts between spheres and with static planes, as a rule with a domain: the seed's
+/// impulse formulas (restitution curve e(v_n), Coulomb friction curve μ(|v_t|), effective
+/// masses with world inertia tensors, Baumgarte position correction with β and slop), solved
+/// by the seed's Jacobi passes or by Gauss–Seidel (sequential impulses).
+///
+/// One application of `contact_rule` (after the forces' kick, before the drift):
+///  1. broad phase (CollisionManager) and narrow phase at the current positions;
+///  2. position correction, `position_iterations` passes: for every contact with depth δ
+///     beyond the slop, p_a += β (δ − slop) w_a n, p_b −= β (δ − slop) w_b n, with
+///     w = (1/m)/(1/m_a + 1/m_b) (the seed's split of the depth by inverse masses);
+///  3. collisions, up to `restitution_iterations` passes: a contact that is approaching
+///     (v_n < 0), will touch within the step (s + v_n dt < 0) and has e(|v_n|) > 0 takes the
+///     seed's impulse j_n = −(1 + e) v_n / K_n⁻¹ with friction j_t = clip(−|v_t|/K_t⁻¹, ±μ j_n)
+///     (so a row of touching balls passes an impact along, as in Newton's cradle). A contact
+///     that carried a load in the previous step (found in the warm-start cache) is resting,
+///     not colliding, and takes no restitution: a settling pile does not rattle;
+///  4. contacts, `velocity_iterations` passes of projected (accumulated, clamped) impulses:
+///     v_n ≥ −max(s, 0)/dt (a gap may close within the step: speculative contacts, no
+///     tunnelling) and |j_t| ≤ μ j_n on the tangent disk; warm-started from the impulses of
+///     the previous step when the world has contact_cache_fields();
+/// with K⁻¹(u) = 1/m_a + 1/m_b + (r_a × u)·I_a⁻¹(r_a × u) + (r_b × u)·I_b⁻¹(r_b × u),
+/// I⁻¹ = R I_B⁻¹ Rᵀ, r_a = −r_a n, r_b = +r_b n, and v_rel = (v_a + ω_a × r_a) − (v_b + ω_b × r_b).
+#include "phynjo/runtime/collision/collision_manager.hpp"
+#include "phynjo/runtime/collision/narrow_phase.hpp"
+#include "phynjo/runtime/core/workflow.hpp"
+#include "phynjo/runtime/rigid/rigid_rules.hpp"
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace phynjo::runtime {
+
+/// A material curve: restitution e(|v_n|) ∈ [0, 1] of the approach speed, or friction
+/// μ(|v_t|) ≥ 0 of the sliding speed (speeds in m/s).
+using MaterialCurve = std::function<double(double speed)>;
+
+/// The same value at every speed.
+MaterialCurve constant_curve(double value);
+/// e above the threshold speed (m/s), 0 below it: resting contacts do not bounce.
+MaterialCurve restitution_curve(double e, double threshold);
+
+struct ContactMaterial {
+    MaterialCurve restitution = constant_curve(0);
+    MaterialCurve friction = constant_curve(0);
+};
+
+enum class ContactScheme {
+    gauss_seidel, ///< sequential impulses: each contact sees the impulses applied before it (default)
+    /// The seed's passes: every contact of a pass sees the state at the start of the pass and
+    /// the corrections are added after it (parallel in principle). Each body's mass is split
+    /// evenly among its contacts (Tonge et al. 2012) so that the corrections of a body with
+    /// several contacts do not overshoot; without that a pile never comes to rest.
+    jacobi,
+};
+
+struct ContactOptions {
+    ContactScheme scheme = ContactScheme::gauss_seidel;
+    int position_iterations = 4;
+    int restitution_iterations = 16;
+    int velocity_iterations = 10;
+    double baumgarte = 0.2; ///< β ∈ [0, 1]: fraction of the depth beyond the slop removed per pass
+    double slop = 1e-4;     ///< m: depth left alone (no micro-corrections)
+    double margin = -1;     ///< m: contacts are made this far apart; < 0: min(largest radius, 2 v_max dt)
+    BroadPhase broad_phase = BroadPhase::uniform_grid;
+};
+
+/// Fields to add to a rigid world (make_rigid_world's extra_fields) for warm starting: per
+/// body, `slots` remembered contacts (partner, normal impulse, friction impulse vector).
+std::vector<std::string> contact_cache_fields(int slots = 16);
+
+/// The contact rule over the sphere-shaped `bodies` (radius > 0) and the static `planes`;
+/// `sphere_pairs` = false skips body–body contacts. Domain: positions, velocities, angular
+/// velocities (and the cache fields) of `bodies`; reads their mass properties, orientations
+/// and radii. Throws std::invalid_argument for bad options or planes. When run, throws
+/// phynjo::runtime::Error if a material curve leaves its range.
+NumericRule contact_rule(const ComponentSet& bodies, std::vector<Plane> planes, ContactMaterial material,
+                         ContactOptions options, const std::shared_ptr<const Layout>& layout, bool sphere_pairs = true);
+/// The seed's contactGroundF: spheres on the ground y = 0.
+NumericRule contact_ground(const ComponentSet& bodies, ContactMaterial material, ContactOptions options,
+                           const std::shared_ptr<const Layout>& layout);
+/// The seed's contactSpheresF: sphere–sphere contacts only.
+NumericRule contact_spheres(const ComponentSet& bodies, ContactMaterial material, ContactOptions options,
+                            const std::shared_ptr<const Layout>& layout);
+
+/// kick_force3d(force) · contact_rule · drift_trans · drift_rot: one step of a rigid scene
+/// with contacts (semi-implicit Euler: forces, then constraints, then positions).
+NumericWorkflow rigid_contact_step(const Force3D& force, const ComponentSet& bodies, std::vector<Plane> planes,
+                                   ContactMaterial material, ContactOptions options,
+                                   const std::shared_ptr<const Layout>& layout);
+
+/// The deepest overlap between two spheres of `bodies` or a sphere and a plane, m (0 if none).
+double max_penetration(const World& w, const ComponentSet& bodies, std::span<const Plane> planes);
+
+} // namespace phynjo::runtime

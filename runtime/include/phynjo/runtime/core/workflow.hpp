@@ -1,0 +1,117 @@
+#pragma once
+/// \file
+/// Workflows: run | seq | par over the rules of one world kind, lowered into the generic
+/// Process and validated when built (one Workflow<W> for both layers: NumericWorkflow over
+/// NumericRule on a World, EventWorkflow over EventRule on a FlagWorld, in event.hpp). The
+/// continuous half of the DSL: NumericRule {domain, step}, and the Stepper that runs it.
+#include "phynjo/runtime/core/process.hpp"
+
+#include <initializer_list>
+#include <string>
+#include <vector>
+
+namespace phynjo::runtime {
+
+/// A pure update of a World: `step(dt, world)` rewrites the entries of `domain` (and only
+/// those) from the entries of `domain` and `reads`. Implemented in place.
+struct NumericRule {
+    std::string name;
+    Domain domain;          ///< the entries it may write
+    Domain reads;           ///< the other entries it reads
+    std::function<void(double dt, World& world)> step;
+    std::shared_ptr<const Layout> layout; ///< names in error messages
+};
+
+/// The lowering of a rule: one action of the Process interpreter.
+Action<World> to_action(const NumericRule& rule);
+
+/// How the rules of world kind W become actions of the Process interpreter: specialised
+/// once per world kind (`Rule`, `lower(rule, …)`), here for World and in event.hpp for FlagWorld.
+template <typename W>
+struct WorkflowTraits;
+
+/// A composition of rules of one world kind: run | seq | par. Its domain is computed when it
+/// is built; `par` over overlapping domains throws DomainOverlapError naming the shared
+/// entries, right there (never mid-run).
+template <typename W>
+class Workflow {
+public:
+    using Rule = typename WorkflowTraits<W>::Rule;
+
+    /// One rule (for the event layer: `run(rule, world_shape)`).
+    template <typename... Shape>
+    static Workflow run(const Rule& rule, const Shape&... shape) {
+        return Workflow(Process<W>::act(WorkflowTraits<W>::lower(rule, shape...)));
+    }
+    static Workflow seq(std::vector<Workflow> parts) { return Workflow(Process<W>::seq(processes(parts))); }
+    static Workflow par(std::vector<Workflow> parts) { return Workflow(Process<W>::par(processes(parts))); }
+    template <typename... More>
+    static Workflow seq(const Workflow& a, const More&... rest) {
+        return seq(std::vector<Workflow>{a, rest...});
+    }
+    template <typename... More>
+    static Workflow par(const Workflow& a, const More&... rest) {
+        return par(std::vector<Workflow>{a, rest...});
+    }
+
+    [[nodiscard]] const Domain& domain() const noexcept { return process_.writes(); }
+    [[nodiscard]] const Domain& reads() const noexcept { return process_.reads(); }
+    [[nodiscard]] const Process<W>& process() const noexcept { return process_; }
+
+private:
+    explicit Workflow(Process<W> p) : process_(std::move(p)) {}
+    static std::vector<Process<W>> processes(const std::vector<Workflow>& parts) {
+        std::vector<Process<W>> ps;
+        ps.reserve(parts.size());
+        for (const Workflow& p : parts) ps.push_back(p.process_);
+        return ps;
+    }
+    Process<W> process_;
+};
+
+template <>
+struct WorkflowTraits<World> {
+    using Rule = NumericRule;
+    /// Throws Error for a rule without a step function.
+    static Action<World> lower(const NumericRule& rule);
+};
+
+/// A composition of numeric rules.
+using NumericWorkflow = Workflow<World>;
+
+/// Why a guarded run stopped (the runtime never aborts a simulation: it says why it ended).
+struct RunReport {
+    bool completed = true;      ///< all requested steps were taken
+    std::size_t steps = 0;      ///< steps completed
+    std::uint64_t tick = 0;     ///< world.tick when it stopped
+    double time = 0;            ///< world.time when it stopped, s
+    std::string reason;         ///< empty when completed
+    std::string where;          ///< `field:component` of the first non-finite entry, if that was the reason
+};
+
+/// Steps a world with a workflow: the built form of the seed's `step :: Δt -> world -> world`.
+class Stepper {
+public:
+    explicit Stepper(const NumericWorkflow& workflow, Executor* executor = nullptr)
+        : interpreter_(workflow.process(), executor), writes_(workflow.domain()) {}
+    /// world ← workflow(dt, world); allocates nothing.
+    void step(World& world, double dt) { interpreter_.step(world, dt); }
+    /// `steps` steps of size dt (through step(): one path for tests and users alike).
+    void run(World& world, double dt, std::size_t steps) {
+        for (std::size_t i = 0; i < steps; ++i) step(world, dt);
+    }
+    void set_checked(bool on) noexcept { interpreter_.set_checked(on); }
+
+    /// Like run(), but never throws and never lets NaN or infinity through unnoticed: after
+    /// every step the entries the workflow writes are checked; the run stops at the first
+    /// non-finite entry, or at the first exception a rule throws, and the report says which
+    /// entry, at which tick, or what the rule said. On a stop the world holds the state the
+    /// failing step produced (for inspection).
+    RunReport run_guarded(World& world, double dt, std::size_t steps);
+
+private:
+    Interpreter<World> interpreter_;
+    Domain writes_;
+};
+
+} // namespace phynjo::runtime

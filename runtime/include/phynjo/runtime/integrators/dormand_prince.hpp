@@ -1,0 +1,37 @@
+#pragma once
+/// \file
+/// Adaptive Dormand–Prince 5(4) for generated models. Order 5 (4 for the error estimate),
+/// not symplectic. (source: integrators/dormand_prince.cpp)
+#include "phynjo/runtime/models/lagrangian_system.hpp"
+
+#include <cstddef>
+#include <vector>
+
+namespace phynjo::runtime {
+
+/// Dormand–Prince 5(4) with local error control (FSAL, PI-free classic controller):
+/// err = ‖(y5 − y4)/(atol + rtol·|y|)‖_rms ≤ 1 accepts; dt_new = dt·clamp(0.9·err^(−1/5), 0.2, 5).
+/// Reference: J. R. Dormand, P. J. Prince, J. Comput. Appl. Math. 6, 19 (1980).
+class DormandPrince45 {
+public:
+    struct Options {
+        double rtol = 1e-9, atol = 1e-12;
+        double dt_min = 1e-12, dt_max = 1.0;
+    };
+    DormandPrince45(LagrangianSystem system, Options options);
+    /// Advances `w` by one accepted step starting with a trial step `dt` (clipped to
+    /// `t_end − w.time`); returns the step taken. Throws ConvergenceError below dt_min.
+    double step(World& w, double dt, double t_end);
+    /// The step proposed for the next call.
+    [[nodiscard]] double next_dt() const noexcept { return next_; }
+    [[nodiscard]] std::size_t rejected() const noexcept { return rejected_; }
+
+private:
+    LagrangianSystem sys_;
+    Options opt_;
+    double next_ = 0;
+    std::size_t rejected_ = 0;
+    std::vector<double> y_, k_[7], tmp_, acc_;
+};
+
+} // namespace phynjo::runtime

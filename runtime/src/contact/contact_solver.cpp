@@ -1,0 +1,583 @@
+// The contact rule: narrow phase → position correction → collisions → contact impulses.
+// The maths is in contact.hpp; here the sphere geometry is used to shorten it: every lever
+// arm is along the normal (r_a = −r_a n, r_b = +r_b n), so with the right-handed frame
+// (n, t1, t2 = n × t1):
+//   r_a × n = 0,  r_a × t1 = −r_a t2,  r_a × t2 = r_a t1,  r_b × t1 = r_b t2,  r_b × t2 = −r_b t1,
+//   v_n  = (v_a − v_b)·n,
+//   v_t1 = (v_a − v_b)·t1 − r_a ω_a·t2 − r_b ω_b·t2,
+//   v_t2 = (v_a − v_b)·t2 + r_a ω_a·t1 + r_b ω_b·t1,
+//   K⁻¹(n) = 1/m_a + 1/m_b,  K⁻¹(t1) = 1/m_a + 1/m_b + r_a² t2·I_a⁻¹t2 + r_b² t2·I_b⁻¹t2 (t1 ↔ t2 alike),
+// and a tangential impulse λ1 t1 + λ2 t2 on a (minus on b) changes the spins by
+//   ω_a += r_a I_a⁻¹ u,  ω_b += r_b I_b⁻¹ u,  u = λ2 t1 − λ1 t2.
+#include "phynjo/runtime/contact/contact_solver.hpp"
+
+#include "phynjo/runtime/core/errors.hpp"
+#include "phynjo/runtime/rigid/rigid_world.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace phynjo::runtime {
+
+MaterialCurve constant_curve(double value) {
+    return [value](double) { return value; };
+}
+MaterialCurve restitution_curve(double e, double threshold) {
+    return [e, threshold](double speed) { return speed > threshold ? e : 0.0; };
+}
+
+std::vector<std::string> contact_cache_fields(int slots) {
+    if (slots < 1 || slots > 64) throw std::invalid_argument("contact_cache_fields: slots must be in 1..64");
+    std::vector<std::string> f;
+    for (const char* base : {"wc_partner#", "wc_jn#", "wc_jtx#", "wc_jty#", "wc_jtz#"})
+        for (int k = 0; k < slots; ++k) f.push_back(base + std::to_string(k));
+    return f;
+}
+
+namespace {
+
+struct Body {
+    double v[3], w[3], p[3];
+    double im;    // 1/m
+    double ii[6]; // world inverse inertia: xx, yy, zz, xy, xz, yz
+    double r;
+};
+
+struct Row {
+    std::uint32_t a, b; // scratch bodies (b = the static body for planes)
+    int plane;
+    double n[3], t1[3], t2[3];
+    double ra, rb;               // radii (rb = 0 for planes)
+    double mn, mt1, mt2;         // effective masses 1/K⁻¹
+    double sep, bias;            // separation, minimum normal velocity
+    double mu;
+    double jn, jt1, jt2;         // accumulated impulses
+    int slot;                    // its warm-start slot in the cache, −1 if none: a contact with
+                                 // a slot carried a load in the previous step (it is resting)
+};
+
+inline double dot(const double* a, const double* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+inline void mul_sym(const double* m, const double* u, double* out) {
+    out[0] = m[0] * u[0] + m[3] * u[1] + m[4] * u[2];
+    out[1] = m[3] * u[0] + m[1] * u[1] + m[5] * u[2];
+    out[2] = m[4] * u[0] + m[5] * u[1] + m[2] * u[2];
+}
+inline double quad(const double* m, const double* u) {
+    double t[3];
+    mul_sym(m, u, t);
+    return dot(u, t);
+}
+
+void tangent_basis(const double* n, double* t1, double* t2) {
+    // t1 ⟂ n from the world axis least aligned with n; t2 = n × t1.
+    double a[3] = {0, 0, 0};
+    const double ax = std::abs(n[0]), ay = std::abs(n[1]), az = std::abs(n[2]);
+    a[ax <= ay && ax <= az ? 0 : (ay <= az ? 1 : 2)] = 1;
+    t1[0] = n[1] * a[2] - n[2] * a[1];
+    t1[1] = n[2] * a[0] - n[0] * a[2];
+    t1[2] = n[0] * a[1] - n[1] * a[0];
+    const double l = std::sqrt(dot(t1, t1));
+    for (int k = 0; k < 3; ++k) t1[k] /= l;
+    t2[0] = n[1] * t1[2] - n[2] * t1[1];
+    t2[1] = n[2] * t1[0] - n[0] * t1[2];
+    t2[2] = n[0] * t1[1] - n[1] * t1[0];
+}
+
+/// The tangential velocity (v_t1, v_t2) of the contact point of b relative to a's (file comment).
+inline void tangent_velocity(const Row& c, const Body& A, const Body& B, double& vt1, double& vt2) {
+    const double dv[3] = {A.v[0] - B.v[0], A.v[1] - B.v[1], A.v[2] - B.v[2]};
+    vt1 = dot(dv, c.t1) - c.ra * dot(A.w, c.t2) - c.rb * dot(B.w, c.t2);
+    vt2 = dot(dv, c.t2) + c.ra * dot(A.w, c.t1) + c.rb * dot(B.w, c.t1);
+}
+
+/// Coulomb's disk: scales (x, y) back onto the circle of radius lim if it lies outside.
+inline void clamp_disk(double& x, double& y, double lim) {
+    const double mag = std::sqrt(x * x + y * y);
+    if (mag > lim) {
+        const double s = mag > 0 ? lim / mag : 0;
+        x *= s;
+        y *= s;
+    }
+}
+
+/// Contacts per body the scratch is reserved for (12 equal spheres can touch one; the
+/// warm-start cache keeps 16 by default).
+constexpr std::size_t kReservedContactsPerBody = 16;
+
+class Solver {
+public:
+    Solver(const ComponentSet& bodies, std::vector<Plane> planes, ContactMaterial material, ContactOptions options,
+           std::shared_ptr<const Layout> layout, bool sphere_pairs)
+        : ids_(bodies.indices().begin(), bodies.indices().end()), planes_(std::move(planes)),
+          material_(std::move(material)), options_(options), layout_(std::move(layout)), sphere_pairs_(sphere_pairs),
+          manager_(options.broad_phase) {
+        for (int k = 0;; ++k) {
+            const std::string s = std::to_string(k);
+            auto find = [&](const std::string& name) -> int {
+                for (std::size_t f = 0; f < layout_->fields.size(); ++f)
+                    if (layout_->fields[f] == name) return static_cast<int>(f);
+                return -1;
+            };
+            const int p = find("wc_partner#" + s);
+            if (p < 0) break;
+            slots_.push_back({static_cast<FieldId>(p), layout_->field("wc_jn#" + s), layout_->field("wc_jtx#" + s),
+                              layout_->field("wc_jty#" + s), layout_->field("wc_jtz#" + s)});
+        }
+        // Scratch for kReservedContactsPerBody sphere contacts per body and one per plane,
+        // reserved now so that steps allocate nothing while contacts appear (a falling pile);
+        // a scene beyond that grows it once.
+        const std::size_t n = ids_.size();
+        const std::size_t contacts = n * (kReservedContactsPerBody + planes_.size());
+        bodies_.reserve(n + 1);
+        snapshot_.reserve(n + 1);
+        spheres_.reserve(n);
+        contacts_.reserve(contacts);
+        rows_.reserve(contacts);
+        delta_.reserve(3 * (n + 1));
+        split_.reserve(n + 1);
+        local_.reserve(layout_->components.size());
+        manager_.reserve(n, n * kReservedContactsPerBody);
+    }
+
+    void step(double dt, World& w);
+
+private:
+    struct Slot {
+        FieldId partner, jn, jtx, jty, jtz;
+    };
+
+    void gather(const World& w);
+    void detect(const World& w, double dt);
+    void correct_positions();
+    void setup_rows(double dt);
+    void warm_start(const World& w);
+    void find_slots(const World& w);
+    void collisions(double dt);
+    void solve_contacts();
+    void scatter(World& w) const;
+    /// The unit normal n (from b towards a) and the signed separation at the current positions.
+    double geometry(const Row& c, double* n) const;
+    void store_cache(World& w) const;
+    double curve(const MaterialCurve& c, double speed, bool restitution) const;
+
+    // velocity-level kernels
+    void apply_normal(Row& c, double lambda, std::vector<Body>& B) const;
+    void apply_tangent(Row& c, double l1, double l2, std::vector<Body>& B) const;
+
+    std::vector<Index> ids_;
+    std::vector<Plane> planes_;
+    ContactMaterial material_;
+    ContactOptions options_;
+    std::shared_ptr<const Layout> layout_;
+    bool sphere_pairs_;
+    CollisionManager manager_;
+    std::vector<Slot> slots_;
+
+    // scratch, reused every step (no steady-state allocation)
+    std::vector<Body> bodies_; // ids_.size() bodies, then one static body
+    std::vector<Body> snapshot_; // Jacobi: the bodies at the start of a pass
+    std::vector<SphereBB> spheres_;
+    std::vector<Contact> contacts_;
+    std::vector<Row> rows_;
+    std::vector<double> delta_; // Jacobi position accumulators: 3 per body
+    std::vector<double> split_; // Jacobi: contacts per body (mass splitting)
+    std::vector<Index> local_;  // component → scratch index (for pair lookup)
+};
+
+double Solver::curve(const MaterialCurve& c, double speed, bool restitution) const {
+    const double v = c(speed);
+    if (restitution ? !(v >= 0 && v <= 1) : !(v >= 0 && std::isfinite(v))) {
+        std::ostringstream os;
+        os << "contact: the " << (restitution ? "restitution" : "friction") << " curve returned " << v << " at speed "
+           << speed << " m/s; it must be " << (restitution ? "in [0, 1]" : "finite and non-negative");
+        throw Error(os.str());
+    }
+    return v;
+}
+
+void Solver::gather(const World& w) {
+    const std::size_t n = ids_.size();
+    bodies_.resize(n + 1);
+    for (std::size_t k = 0; k < n; ++k) {
+        const Index i = ids_[k];
+        Body& b = bodies_[k];
+        b.v[0] = w.at(kVX, i), b.v[1] = w.at(kVY, i), b.v[2] = w.at(kVZ, i);
+        b.w[0] = w.at(kWX, i), b.w[1] = w.at(kWY, i), b.w[2] = w.at(kWZ, i);
+        b.p[0] = w.at(kX, i), b.p[1] = w.at(kY, i), b.p[2] = w.at(kZ, i);
+        b.im = w.at(kInvMass, i);
+        b.r = w.at(kRadius, i);
+        if (!std::isfinite(b.p[0] + b.p[1] + b.p[2] + b.v[0] + b.v[1] + b.v[2] + b.w[0] + b.w[1] + b.w[2]))
+            throw Error("contact: the position or velocity of '" + layout_->components.label(i) + "' is not finite");
+        const bool isotropic = w.at(kInvIxy, i) == 0 && w.at(kInvIxz, i) == 0 && w.at(kInvIyz, i) == 0 &&
+                               w.at(kInvIxx, i) == w.at(kInvIyy, i) && w.at(kInvIxx, i) == w.at(kInvIzz, i);
+        if (isotropic) { // R I⁻¹ Rᵀ = I⁻¹
+            b.ii[0] = b.ii[1] = b.ii[2] = w.at(kInvIxx, i);
+            b.ii[3] = b.ii[4] = b.ii[5] = 0;
+        } else {
+            const Eigen::Matrix3d r = orientation(w, i).to_matrix();
+            const Eigen::Matrix3d m = r * body_inverse_inertia(w, i) * r.transpose();
+            b.ii[0] = m(0, 0), b.ii[1] = m(1, 1), b.ii[2] = m(2, 2);
+            b.ii[3] = 0.5 * (m(0, 1) + m(1, 0)), b.ii[4] = 0.5 * (m(0, 2) + m(2, 0)), b.ii[5] = 0.5 * (m(1, 2) + m(2, 1));
+        }
+    }
+    bodies_[n] = Body{}; // the static body: no velocity, zero inverse mass and inertia
+}
+
+void Solver::detect(const World& w, double dt) {
+    contacts_.clear();
+    double margin = options_.margin;
+    if (margin < 0) {
+        double vmax = 0, rmax = 0;
+        for (std::size_t k = 0; k < ids_.size(); ++k) {
+            const Body& b = bodies_[k];
+            vmax = std::max(vmax, dot(b.v, b.v));
+            rmax = std::max(rmax, b.r);
+        }
+        margin = std::min(rmax, 2 * std::sqrt(vmax) * dt);
+    }
+    if (sphere_pairs_) {
+        spheres_.resize(ids_.size());
+        for (std::size_t k = 0; k < ids_.size(); ++k) {
+            const Body& b = bodies_[k];
+            spheres_[k] = SphereBB{{b.p[0], b.p[1], b.p[2]}, b.r + 0.5 * margin};
+        }
+        manager_.update(std::span<const SphereBB>(spheres_));
+        sphere_sphere_contacts(w, manager_.run_broad_phase(), ids_, margin, contacts_);
+    }
+    sphere_plane_contacts(w, ids_, planes_, margin, contacts_);
+    // Scratch indices instead of component indices.
+    local_.resize(w.size());
+    for (std::size_t k = 0; k < ids_.size(); ++k) local_[ids_[k]] = static_cast<Index>(k);
+    rows_.resize(contacts_.size());
+    const auto stat = static_cast<std::uint32_t>(ids_.size());
+    for (std::size_t c = 0; c < contacts_.size(); ++c) {
+        const Contact& k = contacts_[c];
+        Row& r = rows_[c];
+        r.a = local_[k.a];
+        r.b = k.plane >= 0 ? stat : local_[k.b];
+        r.plane = k.plane;
+        r.jn = r.jt1 = r.jt2 = 0;
+        r.slot = -1;
+    }
+}
+
+double Solver::geometry(const Row& c, double* n) const {
+    const Body& A = bodies_[c.a];
+    if (c.plane >= 0) {
+        const Plane& pl = planes_[static_cast<std::size_t>(c.plane)];
+        n[0] = pl.normal.x(), n[1] = pl.normal.y(), n[2] = pl.normal.z();
+        return dot(n, A.p) - pl.offset - A.r;
+    }
+    const Body& B = bodies_[c.b];
+    const double d[3] = {A.p[0] - B.p[0], A.p[1] - B.p[1], A.p[2] - B.p[2]};
+    const double l = std::sqrt(dot(d, d));
+    if (l > 0) {
+        n[0] = d[0] / l, n[1] = d[1] / l, n[2] = d[2] / l;
+    } else {
+        n[0] = 0, n[1] = 1, n[2] = 0;
+    }
+    return l - A.r - B.r;
+}
+
+void Solver::correct_positions() {
+    const double beta = options_.baumgarte, slop = options_.slop;
+    const bool jacobi = options_.scheme == ContactScheme::jacobi;
+    const std::size_t nb = ids_.size();
+    for (int it = 0; it < options_.position_iterations; ++it) {
+        if (jacobi) delta_.assign(3 * nb, 0.0);
+        bool any = false;
+        for (Row& c : rows_) {
+            Body& A = bodies_[c.a];
+            double n[3];
+            const double sep = geometry(c, n);
+            const double depth = -sep - slop;
+            if (depth <= 0) continue;
+            any = true;
+            Body& Bb = bodies_[c.b];
+            const double wsum = A.im + Bb.im;
+            const double corr = beta * depth / wsum;
+            for (int k = 0; k < 3; ++k) {
+                if (jacobi) {
+                    delta_[3 * c.a + k] += corr * A.im * n[k];
+                    if (c.plane < 0) delta_[3 * c.b + k] -= corr * Bb.im * n[k];
+                } else {
+                    A.p[k] += corr * A.im * n[k];
+                    Bb.p[k] -= corr * Bb.im * n[k];
+                }
+            }
+        }
+        if (jacobi)
+            for (std::size_t b = 0; b < nb; ++b)
+                for (int k = 0; k < 3; ++k) bodies_[b].p[k] += delta_[3 * b + k];
+        if (!any) break;
+    }
+}
+
+void Solver::setup_rows(double dt) {
+    // Jacobi: split each body's mass evenly among its contacts (its inverse mass and inverse
+    // inertia times its contact count), so that the simultaneous corrections of a pass add up
+    // to one body's worth instead of overshooting by the contact count (Tonge, Benevolenski &
+    // Voroshilov, "Mass splitting for jitter-free parallel rigid body simulation", SIGGRAPH 2012).
+    const bool jacobi = options_.scheme == ContactScheme::jacobi;
+    if (jacobi) {
+        split_.assign(bodies_.size(), 0.0);
+        for (const Row& c : rows_) {
+            split_[c.a] += 1;
+            split_[c.b] += 1;
+        }
+    }
+    for (Row& c : rows_) {
+        const Body& A = bodies_[c.a];
+        const Body& B = bodies_[c.b];
+        const double sa = jacobi ? split_[c.a] : 1.0, sb = jacobi ? split_[c.b] : 1.0;
+        c.ra = A.r;
+        c.rb = c.plane >= 0 ? 0.0 : B.r;
+        c.sep = geometry(c, c.n);
+        tangent_basis(c.n, c.t1, c.t2);
+        const double im = sa * A.im + sb * B.im;
+        c.mn = 1 / im;
+        c.mt1 = 1 / (im + sa * c.ra * c.ra * quad(A.ii, c.t2) + sb * c.rb * c.rb * quad(B.ii, c.t2));
+        c.mt2 = 1 / (im + sa * c.ra * c.ra * quad(A.ii, c.t1) + sb * c.rb * c.rb * quad(B.ii, c.t1));
+        c.bias = -std::max(c.sep, 0.0) / dt;
+        // μ from the sliding speed before the solve.
+        double vt1, vt2;
+        tangent_velocity(c, A, B, vt1, vt2);
+        c.mu = curve(material_.friction, std::sqrt(vt1 * vt1 + vt2 * vt2), false);
+    }
+}
+
+void Solver::apply_normal(Row& c, double l, std::vector<Body>& B) const {
+    Body& A = B[c.a];
+    Body& Bb = B[c.b];
+    for (int k = 0; k < 3; ++k) {
+        A.v[k] += A.im * l * c.n[k];
+        Bb.v[k] -= Bb.im * l * c.n[k];
+    }
+}
+
+void Solver::apply_tangent(Row& c, double l1, double l2, std::vector<Body>& B) const {
+    Body& A = B[c.a];
+    Body& Bb = B[c.b];
+    double u[3], ia[3], ib[3];
+    for (int k = 0; k < 3; ++k) {
+        const double p = l1 * c.t1[k] + l2 * c.t2[k];
+        A.v[k] += A.im * p;
+        Bb.v[k] -= Bb.im * p;
+        u[k] = l2 * c.t1[k] - l1 * c.t2[k];
+    }
+    mul_sym(A.ii, u, ia);
+    mul_sym(Bb.ii, u, ib);
+    for (int k = 0; k < 3; ++k) {
+        A.w[k] += c.ra * ia[k];
+        Bb.w[k] += c.rb * ib[k];
+    }
+}
+
+void Solver::find_slots(const World& w) {
+    if (slots_.empty()) return;
+    for (Row& c : rows_) {
+        const Index a = ids_[c.a];
+        const double key = c.plane >= 0 ? -(c.plane + 1.0) : ids_[c.b] + 1.0;
+        for (std::size_t k = 0; k < slots_.size(); ++k) {
+            const double p = w.at(slots_[k].partner, a);
+            if (p == 0) break; // slots are filled from the front
+            if (p == key) {
+                c.slot = static_cast<int>(k);
+                break;
+            }
+        }
+    }
+}
+
+void Solver::warm_start(const World& w) {
+    if (slots_.empty()) return;
+    for (Row& c : rows_) {
+        if (c.slot < 0) continue;
+        const Slot* s = &slots_[static_cast<std::size_t>(c.slot)];
+        const Index a = ids_[c.a];
+        const double jt[3] = {w.at(s->jtx, a), w.at(s->jty, a), w.at(s->jtz, a)};
+        c.jn = w.at(s->jn, a);
+        c.jt1 = dot(jt, c.t1);
+        c.jt2 = dot(jt, c.t2);
+        clamp_disk(c.jt1, c.jt2, c.mu * c.jn);
+        apply_normal(c, c.jn, bodies_);
+        apply_tangent(c, c.jt1, c.jt2, bodies_);
+    }
+}
+
+void Solver::collisions(double dt) {
+    const bool jacobi = options_.scheme == ContactScheme::jacobi;
+    for (int it = 0; it < options_.restitution_iterations; ++it) {
+        bool any = false;
+        if (jacobi) snapshot_ = bodies_;
+        const std::vector<Body>& from = jacobi ? snapshot_ : bodies_; // read; impulses go to bodies_
+        for (Row& c : rows_) {
+            const Body& A = from[c.a];
+            const Body& B = from[c.b];
+            double dv[3] = {A.v[0] - B.v[0], A.v[1] - B.v[1], A.v[2] - B.v[2]};
+            const double vn = dot(dv, c.n);
+            if (c.slot >= 0 || vn >= 0 || c.sep + vn * dt >= 0) continue;
+            const double e = curve(material_.restitution, -vn, true);
+            if (e == 0) continue;
+            any = true;
+            const double j = -(1 + e) * vn * c.mn;
+            double vt1, vt2;
+            tangent_velocity(c, A, B, vt1, vt2);
+            double l1 = -vt1 * c.mt1, l2 = -vt2 * c.mt2;
+            clamp_disk(l1, l2, c.mu * j);
+            apply_normal(c, j, bodies_);
+            apply_tangent(c, l1, l2, bodies_);
+        }
+        if (!any) break;
+    }
+}
+
+void Solver::solve_contacts() {
+    const bool jacobi = options_.scheme == ContactScheme::jacobi;
+    for (int it = 0; it < options_.velocity_iterations; ++it) {
+        if (jacobi) snapshot_ = bodies_;
+        const std::vector<Body>& from = jacobi ? snapshot_ : bodies_;
+        for (Row& c : rows_) {
+            // Friction first, limited by the normal impulse of the previous pass.
+            {
+                const Body& A = from[c.a];
+                const Body& B = from[c.b];
+                double vt1, vt2;
+                tangent_velocity(c, A, B, vt1, vt2);
+                double n1 = c.jt1 - vt1 * c.mt1, n2 = c.jt2 - vt2 * c.mt2;
+                clamp_disk(n1, n2, c.mu * c.jn);
+                const double l1 = n1 - c.jt1, l2 = n2 - c.jt2;
+                c.jt1 = n1;
+                c.jt2 = n2;
+                if (l1 != 0 || l2 != 0) apply_tangent(c, l1, l2, bodies_);
+            }
+            {
+                const Body& A = jacobi ? from[c.a] : bodies_[c.a];
+                const Body& B = jacobi ? from[c.b] : bodies_[c.b];
+                const double vn = (A.v[0] - B.v[0]) * c.n[0] + (A.v[1] - B.v[1]) * c.n[1] + (A.v[2] - B.v[2]) * c.n[2];
+                const double jn = std::max(c.jn - (vn - c.bias) * c.mn, 0.0);
+                const double l = jn - c.jn;
+                c.jn = jn;
+                if (l != 0) apply_normal(c, l, bodies_);
+            }
+        }
+    }
+}
+
+void Solver::scatter(World& w) const {
+    for (std::size_t k = 0; k < ids_.size(); ++k) {
+        const Index i = ids_[k];
+        const Body& b = bodies_[k];
+        w.at(kVX, i) = b.v[0], w.at(kVY, i) = b.v[1], w.at(kVZ, i) = b.v[2];
+        w.at(kWX, i) = b.w[0], w.at(kWY, i) = b.w[1], w.at(kWZ, i) = b.w[2];
+        w.at(kX, i) = b.p[0], w.at(kY, i) = b.p[1], w.at(kZ, i) = b.p[2];
+    }
+}
+
+void Solver::store_cache(World& w) const {
+    if (slots_.empty()) return;
+    for (Index i : ids_)
+        for (const Slot& s : slots_) w.at(s.partner, i) = 0;
+    // Rows are grouped by body a (pairs sorted by a, then the planes of each body in order),
+    // but a body's rows need not be contiguous: fill the first free slot of each.
+    for (const Row& c : rows_) {
+        if (c.jn <= 0) continue;
+        const Index a = ids_[c.a];
+        for (const Slot& s : slots_) {
+            if (w.at(s.partner, a) != 0) continue;
+            w.at(s.partner, a) = c.plane >= 0 ? -(c.plane + 1.0) : ids_[c.b] + 1.0;
+            w.at(s.jn, a) = c.jn;
+            w.at(s.jtx, a) = c.jt1 * c.t1[0] + c.jt2 * c.t2[0];
+            w.at(s.jty, a) = c.jt1 * c.t1[1] + c.jt2 * c.t2[1];
+            w.at(s.jtz, a) = c.jt1 * c.t1[2] + c.jt2 * c.t2[2];
+            break;
+        }
+    }
+}
+
+void Solver::step(double dt, World& w) {
+    if (!(dt > 0) || !std::isfinite(dt)) throw Error("contact: the step dt must be positive and finite");
+    gather(w);
+    detect(w, dt);
+    correct_positions();
+    setup_rows(dt);
+    find_slots(w); // cached contacts are resting: no restitution for them
+    // Collisions see the velocities before any contact impulse: the warm start is a first
+    // guess at the resting impulses that the contact passes may take back, and an impact
+    // computed against it would keep a bounce that the guess only lent.
+    collisions(dt);
+    warm_start(w);
+    solve_contacts();
+    scatter(w);
+    store_cache(w);
+}
+
+Domain writes_of(const Layout& layout, const ComponentSet& bodies) {
+    Domain d = Domain::of(layout, {"x", "y", "z", "vx", "vy", "vz", "wx", "wy", "wz"}, bodies);
+    for (std::size_t f = 0; f < layout.fields.size(); ++f)
+        if (layout.fields[f].rfind("wc_", 0) == 0) d = d | Domain(static_cast<FieldId>(f), bodies);
+    return d;
+}
+
+} // namespace
+
+NumericRule contact_rule(const ComponentSet& bodies, std::vector<Plane> planes, ContactMaterial material,
+                         ContactOptions options, const std::shared_ptr<const Layout>& layout, bool sphere_pairs) {
+    for (const Plane& p : planes) p.validate();
+    if (!material.restitution || !material.friction) throw std::invalid_argument("contact_rule: a material curve is empty");
+    if (options.position_iterations < 0 || options.velocity_iterations < 0 || options.restitution_iterations < 0)
+        throw std::invalid_argument("contact_rule: iteration counts must be non-negative");
+    if (!(options.baumgarte >= 0 && options.baumgarte <= 1))
+        throw std::invalid_argument("contact_rule: the Baumgarte factor must be in [0, 1]");
+    if (!(options.slop >= 0) || !std::isfinite(options.slop))
+        throw std::invalid_argument("contact_rule: the slop must be non-negative and finite");
+    if (!std::isfinite(options.margin)) throw std::invalid_argument("contact_rule: the margin must be finite");
+    for (Index i : bodies.indices())
+        if (i >= layout->components.size()) throw std::invalid_argument("contact_rule: a body is not in the world");
+    auto solver = std::make_shared<Solver>(bodies, planes, std::move(material), options, layout, sphere_pairs);
+    NumericRule r{sphere_pairs ? (planes.empty() ? "contact_spheres" : "contacts") : "contact_planes",
+                  writes_of(*layout, bodies),
+                  Domain::of(*layout, {"m", "inv_m", "iIxx", "iIyy", "iIzz", "iIxy", "iIxz", "iIyz", "radius", "qw", "qx", "qy", "qz"},
+                             bodies),
+                  nullptr, layout};
+    r.step = [solver](double dt, World& w) { solver->step(dt, w); };
+    return r;
+}
+
+NumericRule contact_ground(const ComponentSet& bodies, ContactMaterial material, ContactOptions options,
+                           const std::shared_ptr<const Layout>& layout) {
+    return contact_rule(bodies, {Plane::ground()}, std::move(material), options, layout, false);
+}
+
+NumericRule contact_spheres(const ComponentSet& bodies, ContactMaterial material, ContactOptions options,
+                            const std::shared_ptr<const Layout>& layout) {
+    return contact_rule(bodies, {}, std::move(material), options, layout, true);
+}
+
+NumericWorkflow rigid_contact_step(const Force3D& force, const ComponentSet& bodies, std::vector<Plane> planes,
+                                   ContactMaterial material, ContactOptions options,
+                                   const std::shared_ptr<const Layout>& layout) {
+    using W = NumericWorkflow;
+    return W::seq(W::run(kick_force3d(force, bodies, 1.0, layout)),
+                  W::run(contact_rule(bodies, std::move(planes), std::move(material), options, layout)),
+                  W::run(drift_trans(bodies, 1.0, layout)), W::run(drift_rot(bodies, 1.0, layout)));
+}
+
+double max_penetration(const World& w, const ComponentSet& bodies, std::span<const Plane> planes) {
+    std::vector<Index> ids(bodies.indices().begin(), bodies.indices().end());
+    std::vector<AABB> boxes(ids.size());
+    for (std::size_t k = 0; k < ids.size(); ++k)
+        boxes[k] = aabb_from_sphere(SphereBB{position(w, ids[k]), w.at(kRadius, ids[k])});
+    std::vector<CandidatePair> pairs;
+    UniformGrid().find_pairs(boxes, pairs);
+    std::vector<Contact> contacts;
+    sphere_sphere_contacts(w, pairs, ids, 0, contacts);
+    sphere_plane_contacts(w, ids, planes, 0, contacts);
+    double worst = 0;
+    for (const Contact& c : contacts) worst = std::max(worst, -c.separation);
+    return worst;
+}
+
+} // namespace phynjo::runtime

@@ -1,0 +1,85 @@
+// Dormand–Prince 5(4) with local error control for generated models: seven stages (FSAL),
+// the fifth-order solution advances, the embedded fourth-order one estimates the error.
+// Order 5; not symplectic.
+// Reference: J. R. Dormand, P. J. Prince, J. Comput. Appl. Math. 6, 19 (1980).
+#include "phynjo/runtime/integrators/dormand_prince.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace phynjo::runtime {
+
+DormandPrince45::DormandPrince45(LagrangianSystem system, Options options) : sys_(std::move(system)), opt_(options) {
+    const std::size_t m = 2 * sys_.dof;
+    y_.assign(m, 0.0);
+    tmp_.assign(m, 0.0);
+    acc_.assign(sys_.dof, 0.0);
+    for (auto& k : k_) k.assign(m, 0.0);
+}
+
+double DormandPrince45::step(World& w, double dt, double t_end) {
+    static constexpr double c[7] = {0, 1.0 / 5, 3.0 / 10, 4.0 / 5, 8.0 / 9, 1, 1};
+    static constexpr double a[7][6] = {
+        {},
+        {1.0 / 5},
+        {3.0 / 40, 9.0 / 40},
+        {44.0 / 45, -56.0 / 15, 32.0 / 9},
+        {19372.0 / 6561, -25360.0 / 2187, 64448.0 / 6561, -212.0 / 729},
+        {9017.0 / 3168, -355.0 / 33, 46732.0 / 5247, 49.0 / 176, -5103.0 / 18656},
+        {35.0 / 384, 0, 500.0 / 1113, 125.0 / 192, -2187.0 / 6784, 11.0 / 84}};
+    static constexpr double b5[7] = {35.0 / 384, 0, 500.0 / 1113, 125.0 / 192, -2187.0 / 6784, 11.0 / 84, 0};
+    static constexpr double b4[7] = {5179.0 / 57600, 0, 7571.0 / 16695, 393.0 / 640, -92097.0 / 339200, 187.0 / 2100, 1.0 / 40};
+    const std::size_t n = sys_.dof, m = 2 * n;
+    for (Index i = 0; i < n; ++i) {
+        y_[i] = w.at(kGQ, i);
+        y_[n + i] = w.at(kGV, i);
+    }
+    auto rhs = [&](double t, const std::vector<double>& y, std::vector<double>& k) {
+        sys_.accelerations(t, std::span<const double>(y.data(), n), std::span<const double>(y.data() + n, n), acc_);
+        for (std::size_t i = 0; i < n; ++i) {
+            k[i] = y[n + i];
+            k[n + i] = acc_[i];
+        }
+    };
+    dt = std::min({dt, opt_.dt_max, t_end - w.time});
+    for (;;) {
+        if (dt < opt_.dt_min) throw ConvergenceError("Dormand-Prince step below dt_min at t = " + std::to_string(w.time));
+        rhs(w.time, y_, k_[0]);
+        for (int s = 1; s < 7; ++s) {
+            for (std::size_t i = 0; i < m; ++i) {
+                double v = y_[i];
+                for (int j = 0; j < s; ++j) v += dt * a[s][j] * k_[j][i];
+                tmp_[i] = v;
+            }
+            rhs(w.time + c[s] * dt, tmp_, k_[s]);
+        }
+        double err = 0;
+        for (std::size_t i = 0; i < m; ++i) {
+            double e5 = 0, e4 = 0;
+            for (int s = 0; s < 7; ++s) {
+                e5 += b5[s] * k_[s][i];
+                e4 += b4[s] * k_[s][i];
+            }
+            const double y5 = y_[i] + dt * e5;
+            const double sc = opt_.atol + opt_.rtol * std::max(std::fabs(y_[i]), std::fabs(y5));
+            const double e = dt * (e5 - e4) / sc;
+            err += e * e;
+            tmp_[i] = y5;
+        }
+        err = std::sqrt(err / static_cast<double>(m));
+        const double factor = std::clamp(0.9 * std::pow(std::max(err, 1e-10), -0.2), 0.2, 5.0);
+        if (err <= 1 && std::isfinite(err)) {
+            for (Index i = 0; i < n; ++i) {
+                w.at(kGQ, i) = tmp_[i];
+                w.at(kGV, i) = tmp_[n + i];
+            }
+            w.time += dt;
+            next_ = std::min(dt * factor, opt_.dt_max);
+            return dt;
+        }
+        ++rejected_;
+        dt *= std::isfinite(err) ? factor : 0.2;
+    }
+}
+
+} // namespace phynjo::runtime
