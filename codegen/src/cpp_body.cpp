@@ -1,0 +1,43 @@
+// Straight-line bodies for generated functions: one CSE pass over all outputs of a function,
+// locals declared only for the variables used.
+#include "emit_detail.hpp"
+
+#include <map>
+
+namespace phynjo::codegen::detail {
+
+std::string body(const Names& names, const std::vector<Expr>& outputs, std::vector<std::string>& results,
+                 bool& uses_t, bool& uses_params) {
+    const cas::CseResult r = cas::cse(outputs, {.prefix = "x", .hoist_power_bases = true});
+    cas::CppOptions cpp;
+    cpp.variable_name = [&](Expr v) { return names.local(v); };
+    // the variables used, in a deterministic order
+    std::vector<Expr> all = r.outputs;
+    for (const auto& [t, v] : r.assignments) all.push_back(v);
+    std::map<std::string, Expr> used;
+    for (Expr v : cas::free_variables(all))
+        if (names.is_user(v)) used.emplace(names.local(v), v);
+    std::string s;
+    uses_t = false;
+    uses_params = false;
+    for (const auto& [local, v] : used) {
+        if (v == cas::time_symbol()) uses_t = true;
+        else {
+            if (local[0] == 'k') uses_params = true;
+            s += names.load(v);
+        }
+    }
+    for (const auto& [t, v] : r.assignments) s += "    const double " + names.local(t) + " = " + cas::to_cpp(v, cpp) + ";\n";
+    results.clear();
+    for (Expr o : r.outputs) results.push_back(cas::to_cpp(o, cpp));
+    return s;
+}
+
+std::string unused(bool uses_t, bool uses_params, bool has_t) {
+    std::string s;
+    if (has_t && !uses_t) s += "    (void)t;\n";
+    if (!uses_params) s += "    (void)P;\n";
+    return s;
+}
+
+} // namespace phynjo::codegen::detail

@@ -1,0 +1,118 @@
+// The model's functions in the generated source: mass_matrix, forcing, momenta,
+// generalized_forces, accelerations (with the closed-form 1×1 and 2×2 solves, LDLᵀ above),
+// energy and initial_state; each one straight-line body from one CSE pass.
+#include "emit_detail.hpp"
+
+#include <sstream>
+
+namespace phynjo::codegen::detail {
+
+std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const Names& names) {
+    const std::size_t n = m.dof();
+    std::ostringstream s;
+    std::vector<std::string> res;
+    bool uses_t = false, uses_p = false;
+    auto sizes = [&](const char* fn, std::initializer_list<std::pair<const char*, std::size_t>> arrays) {
+        std::string c;
+        for (const auto& [name, len] : arrays)
+            c += "    check_size(" + std::string(name) + ", " + std::to_string(len) + ", \"" + fn + "\", \"" + name + "\");\n";
+        return c;
+    };
+    // upper triangle of M
+    std::vector<Expr> upper;
+    std::vector<std::pair<std::size_t, std::size_t>> upper_ij;
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t j = i; j < n; ++j) {
+            upper.push_back(eom.mass_matrix[i * n + j]);
+            upper_ij.emplace_back(i, j);
+        }
+
+    // mass_matrix
+    {
+        const std::string b = body(names, upper, res, uses_t, uses_p);
+        s << "void mass_matrix(const Parameters& P, double t, std::span<const double> q, std::span<double> M) {\n"
+          << sizes("mass_matrix", {{"q", n}, {"M", n * n}}) << unused(uses_t, uses_p) << b;
+        for (std::size_t k = 0; k < upper.size(); ++k) {
+            const auto [i, j] = upper_ij[k];
+            s << "    M[" << i * n + j << "] = " << res[k] << ";\n";
+            if (i != j) s << "    M[" << j * n + i << "] = M[" << i * n + j << "];\n";
+        }
+        s << "}\n\n";
+    }
+    // vector-valued functions of (q, qdot)
+    auto vector_function = [&](const char* fn, const char* out_name, const std::vector<Expr>& exprs) {
+        const std::string b = body(names, exprs, res, uses_t, uses_p);
+        s << "void " << fn << "(const Parameters& P, double t, std::span<const double> q, std::span<const double> qdot,\n"
+          << "    std::span<double> " << out_name << ") {\n"
+          << sizes(fn, {{"q", n}, {"qdot", n}, {out_name, n}}) << unused(uses_t, uses_p) << b;
+        for (std::size_t i = 0; i < n; ++i) s << "    " << out_name << "[" << i << "] = " << res[i] << ";\n";
+        s << "}\n\n";
+    };
+    vector_function("forcing", "f", eom.forcing);
+    vector_function("momenta", "p", eom.momenta);
+    vector_function("generalized_forces", "F", eom.generalized_forces);
+
+    // accelerations: M and f from one CSE pass, then the solve
+    {
+        std::vector<Expr> all = upper;
+        all.insert(all.end(), eom.forcing.begin(), eom.forcing.end());
+        const std::string b = body(names, all, res, uses_t, uses_p);
+        s << "void accelerations(const Parameters& P, double t, std::span<const double> q, std::span<const double> qdot,\n"
+          << "                   std::span<double> qddot) {\n"
+          << sizes("accelerations", {{"q", n}, {"qdot", n}, {"qddot", n}}) << unused(uses_t, uses_p) << b;
+        auto Mij = [&](std::size_t i, std::size_t j) {
+            for (std::size_t k = 0; k < upper_ij.size(); ++k)
+                if (upper_ij[k] == std::pair{std::min(i, j), std::max(i, j)}) return res[k];
+            return std::string("0.0");
+        };
+        auto fi = [&](std::size_t i) { return res[upper.size() + i]; };
+        if (n == 1) {
+            s << "    const double m00 = " << Mij(0, 0) << ";\n"
+              << "    if (!(m00 > 0)) throw phynjo::runtime::SingularMassMatrix(\"" << m.name
+              << "::accelerations: the mass matrix is not positive definite\");\n"
+              << "    qddot[0] = (" << fi(0) << ")/m00;\n";
+        } else if (n == 2) {
+            s << "    const double m00 = " << Mij(0, 0) << ", m01 = " << Mij(0, 1) << ", m11 = " << Mij(1, 1) << ";\n"
+              << "    const double f0 = " << fi(0) << ", f1 = " << fi(1) << ";\n"
+              << "    const double det = m00*m11 - m01*m01;\n"
+              << "    if (!(m00 > 0) || !(det > 0)) throw phynjo::runtime::SingularMassMatrix(\"" << m.name
+              << "::accelerations: the mass matrix is not positive definite\");\n"
+              << "    const double inv = 1.0/det;\n"
+              << "    qddot[0] = (m11*f0 - m01*f1)*inv;\n"
+              << "    qddot[1] = (m00*f1 - m01*f0)*inv;\n";
+        } else {
+            s << "    double A[" << n * n << "] = {";
+            for (std::size_t i = 0; i < n; ++i)
+                for (std::size_t j = 0; j < n; ++j) s << (i || j ? ", " : "") << (j <= i ? Mij(i, j) : "0.0");
+            s << "};\n    double b[" << n << "] = {";
+            for (std::size_t i = 0; i < n; ++i) s << (i ? ", " : "") << fi(i);
+            s << "};\n    phynjo::runtime::solve_spd<" << n << ">(A, b);\n"
+              << "    for (std::size_t i = 0; i < " << n << "; ++i) qddot[i] = b[i];\n";
+        }
+        s << "    for (std::size_t i = 0; i < " << n << "; ++i)\n"
+          << "        if (!std::isfinite(qddot[i])) throw phynjo::runtime::NonFiniteResult(\"" << m.name
+          << "::accelerations: non-finite result at t = \" + std::to_string(t));\n"
+          << "}\n\n";
+    }
+    // energy
+    {
+        const std::string b = body(names, {eom.energy}, res, uses_t, uses_p);
+        s << "double energy(const Parameters& P, double t, std::span<const double> q, std::span<const double> qdot) {\n"
+          << sizes("energy", {{"q", n}, {"qdot", n}}) << unused(uses_t, uses_p) << b << "    return " << res[0]
+          << ";\n}\n\n";
+    }
+    // initial_state
+    {
+        std::vector<Expr> init = m.initial_q;
+        init.insert(init.end(), m.initial_qdot.begin(), m.initial_qdot.end());
+        const std::string b = body(names, init, res, uses_t, uses_p);
+        s << "void initial_state(const Parameters& P, std::span<double> q, std::span<double> qdot) {\n"
+          << sizes("initial_state", {{"q", n}, {"qdot", n}}) << unused(uses_t, uses_p, false) << b;
+        for (std::size_t i = 0; i < n; ++i) s << "    q[" << i << "] = " << res[i] << ";\n";
+        for (std::size_t i = 0; i < n; ++i) s << "    qdot[" << i << "] = " << res[n + i] << ";\n";
+        s << "}\n\n";
+    }
+    return s.str();
+}
+
+} // namespace phynjo::codegen::detail

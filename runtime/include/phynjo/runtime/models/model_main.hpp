@@ -1,0 +1,32 @@
+#pragma once
+/// \file
+/// The command-line simulator of a generated model (`phynjo-lagc --main`, `phynjo_add_model(…
+/// MAIN)`): the generated main() only names the model's parameters and hands over; the
+/// options, the integrators and the CSV output are this one tested driver.
+///
+///   MODEL [--t-end T] [--dt DT] [--integrator rk4|dopri|midpoint] [--every K]
+///         [--param NAME=VALUE]... [--output FILE]
+/// simulates from the model's initial state and writes CSV: t, q…, q'…, E.
+#include "phynjo/runtime/models/lagrangian_system.hpp"
+
+#include <functional>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+namespace phynjo::runtime {
+
+/// What the driver needs of a generated model.
+struct ModelCommandLine {
+    std::string_view model_name;
+    /// Every parameter by name, with where its value lives (set by --param before the run).
+    std::vector<std::pair<std::string_view, double*>> parameters;
+    /// The model at the current parameter values.
+    std::function<LagrangianSystem()> system;
+};
+
+/// Runs the simulator: exit status 0 on success, 1 when the run stops on an error (the
+/// message names the time), 2 for a usage error.
+int model_main(int argc, char** argv, const ModelCommandLine& model);
+
+} // namespace phynjo::runtime
