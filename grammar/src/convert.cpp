@@ -3,6 +3,7 @@
 #include "phynjo/cas/diff.hpp"
 #include "phynjo/cas/errors.hpp"
 #include "phynjo/cas/rational.hpp"
+#include "phynjo/grammar/builtins.hpp"
 #include "phynjo/grammar/expression.hpp"
 
 #include <array>
@@ -13,23 +14,6 @@ namespace {
 
 using cas::Expr;
 using Opt = std::optional<Expr>;
-
-struct Builtin {
-    std::string_view name;
-    Expr (*apply)(Expr);
-};
-constexpr std::array<Builtin, 6> builtins{{{"sin", cas::sin},
-                                           {"cos", cas::cos},
-                                           {"tan", cas::tan},
-                                           {"exp", cas::exp},
-                                           {"log", cas::log},
-                                           {"sqrt", cas::sqrt}}};
-
-const Builtin* find_builtin(std::string_view name) {
-    for (const Builtin& b : builtins)
-        if (b.name == name) return &b;
-    return nullptr;
-}
 
 class Converter {
 public:
@@ -151,9 +135,9 @@ private:
     }
 
     Opt name(const ast::Name& n) {
-        if (n.text == "pi") return cas::pi();
+        if (n.text == "pi") return cas::pi();         // the two builtin_constants
         if (n.text == "t") return cas::time_symbol();
-        if (find_builtin(n.text)) {
+        if (find_builtin_function(n.text)) {
             error(n, "'" + n.text + "' is a function: write " + n.text + "(…)");
             return std::nullopt;
         }
@@ -164,14 +148,14 @@ private:
     }
 
     Opt call(const ast::Call& c) {
-        const Builtin* f = find_builtin(c.function.text);
+        const BuiltinFunction* f = find_builtin_function(c.function.text);
         if (!f) {
-            if (c.function.text == "pi" || c.function.text == "t" ||
+            if (is_builtin(c.function.text) ||
                 (options_.resolve && options_.resolve(c.function.text)))
                 error(c.function, "'" + c.function.text + "' is not a function (missing '*'?)");
             else if (!options_.resolve)
-                error(c.function, "unknown function '" + c.function.text +
-                                      "' (functions: sin, cos, tan, exp, log, sqrt; missing '*'?)");
+                error(c.function, "unknown function '" + c.function.text + "' (functions: " + builtin_function_list() +
+                                      "; missing '*'?)");
             else error(c.function, "unknown function '" + c.function.text + "'");
             return std::nullopt;
         }

@@ -12,12 +12,38 @@
 #include <boost/spirit/home/x3.hpp>
 #include <boost/spirit/home/x3/support/utility/annotate_on_success.hpp>
 
+#include <memory>
+#include <string>
+
 namespace phynjo::grammar::parser {
 
 namespace x3 = boost::spirit::x3;
 
 struct position_cache_tag;
 struct depth_tag;
+struct error_report_tag;
+
+/// The first expectation failure of a parse: where it happened and what X3 expected there
+/// (a rule's name or a literal).
+struct ExpectationReport {
+    const char* where = nullptr;
+    std::string which;
+};
+
+/// The one X3 error handler of both parsers (the calc9/rexpr pattern): attached to the
+/// entry rule of each (`input` here, `statement` in lag_def.hpp), it records the expectation
+/// failure for the diagnostic (lexical::report_expected words it) and fails the parse.
+struct error_handler {
+    template <typename Iterator, typename Exception, typename Context>
+    x3::error_handler_result on_error(Iterator&, Iterator const&, Exception const& x, Context const& context) const {
+        ExpectationReport& report = x3::get<error_report_tag>(context).get();
+        if (!report.where) {
+            report.where = std::to_address(x.where());
+            report.which = x.which();
+        }
+        return x3::error_handler_result::fail;
+    }
+};
 
 /// Thrown when nesting exceeds the limit; carries where.
 struct DepthExceeded {
@@ -80,6 +106,7 @@ struct product_op_class : annotate_position {};
 struct product_class : annotate_position {};
 struct sum_op_class : annotate_position {};
 struct expression_class : annotate_position {};
+struct input_class : error_handler {};
 
 inline const x3::rule<number_class, ast::Number> number = "number";
 inline const x3::rule<name_class, ast::Name> name = "name";
@@ -93,6 +120,8 @@ inline const x3::rule<product_op_class, ast::ProductOp> product_op = "operand";
 inline const x3::rule<product_class, ast::Product> product = "operand";
 inline const x3::rule<sum_op_class, ast::SumOp> sum_op = "operand";
 inline const x3::rule<expression_class, ast::Expression> expression = "expression";
+/// The entry rule: an expression, with the error handler.
+inline const x3::rule<input_class, ast::Expression> input = "expression";
 
 inline const auto digits = +x3::char_("0-9");
 inline const auto number_def =
@@ -109,9 +138,10 @@ inline const auto product_op_def = x3::char_("*/") > unary;
 inline const auto product_def = unary >> *product_op;
 inline const auto sum_op_def = x3::char_("+-") > product;
 inline const auto expression_def = product >> *sum_op;
+inline const auto input_def = expression;
 
 BOOST_SPIRIT_DEFINE(number, name, call, paren, primary, postfix, power, unary, product_op, product, sum_op,
-                    expression)
+                    expression, input)
 
 /// White space and `#` comments.
 inline const auto skipper = x3::char_(" \t\r\n\f\v") | x3::lexeme['#' >> *(x3::char_ - x3::lit('\n'))];

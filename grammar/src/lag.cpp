@@ -4,6 +4,7 @@
 #include "phynjo/grammar/lag.hpp"
 
 #include "lag_def.hpp"
+#include "lexical.hpp"
 
 #include <array>
 
@@ -13,7 +14,6 @@ namespace {
 
 constexpr std::array<std::string_view, 8> keywords{"model", "coordinates", "parameters", "let",
                                                      "lagrangian", "dissipation", "force", "initial"};
-constexpr std::array<std::string_view, 8> builtins{"t", "pi", "sin", "cos", "tan", "exp", "log", "sqrt"};
 
 /// Offset of the first byte that is not valid UTF-8, or npos.
 std::size_t invalid_utf8(std::string_view s) {
@@ -84,24 +84,11 @@ std::vector<Range> split_statements(std::string_view text, DiagnosticSink& sink,
     return out;
 }
 
-std::string describe_word_at(std::string_view text, std::size_t at, std::size_t end, std::size_t& length) {
-    std::size_t j = at;
-    while (j < end && (std::isalnum(static_cast<unsigned char>(text[j])) || text[j] == '_')) ++j;
-    length = std::max<std::size_t>(j - at, 1);
-    if (j == at) return at < end ? "'" + std::string(1, text[at]) + "'" : "end of line";
-    return "'" + std::string(text.substr(at, j - at)) + "'";
-}
-
 } // namespace
 
 bool is_keyword(std::string_view name) {
     for (auto k : keywords)
         if (k == name) return true;
-    return false;
-}
-bool is_builtin(std::string_view name) {
-    for (auto b : builtins)
-        if (b == name) return true;
     return false;
 }
 
@@ -125,46 +112,33 @@ ParsedModel parse_model(std::string_view text, Positions& positions, DiagnosticS
         auto first = text.begin() + static_cast<std::ptrdiff_t>(r.begin);
         const auto last = text.begin() + static_cast<std::ptrdiff_t>(r.end);
         parser::DepthCounter depth{0, limits.expression.max_depth};
-        const auto p = x3::with<parser::position_cache_tag>(std::ref(positions.cache()))
-            [x3::with<parser::depth_tag>(std::ref(depth))[parser::statement]];
+        parser::ExpectationReport report;
+        const auto p = x3::with<parser::error_report_tag>(std::ref(report))[x3::with<parser::position_cache_tag>(
+            std::ref(positions.cache()))[x3::with<parser::depth_tag>(std::ref(depth))[parser::statement]]];
         ast::Statement st;
-        auto skip_blank = [&](std::size_t i) {
-            while (i < r.end) {
-                const char c = text[i];
-                if (c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\f' || c == '\v') ++i;
-                else if (c == '#') {
-                    while (i < r.end && text[i] != '\n') ++i;
-                } else break;
-            }
-            return i;
-        };
         try {
             const bool ok = x3::phrase_parse(first, last, p, parser::skipper, st);
-            const std::size_t at = skip_blank(static_cast<std::size_t>(first - text.begin()));
+            if (report.where) {
+                const std::size_t at =
+                    lexical::skip_blank(text, static_cast<std::size_t>(report.where - text.data()), r.end);
+                lexical::report_expected(text, at, r.end, report.which, "end of line", sink);
+                continue;
+            }
+            const std::size_t at = lexical::skip_blank(text, static_cast<std::size_t>(first - text.begin()), r.end);
             if (!ok) {
-                std::size_t len;
-                const std::string found = describe_word_at(text, at, r.end, len);
-                sink.error(at, len, "expected a statement (model, coordinates, parameters, let, lagrangian, "
-                                    "dissipation, force or initial), found " + found);
+                lexical::report_expected(text, at, r.end,
+                                         "a statement (model, coordinates, parameters, let, lagrangian, dissipation, "
+                                         "force or initial)",
+                                         "end of line", sink);
                 continue;
             }
             if (at != r.end) {
-                std::size_t len;
-                const std::string found = describe_word_at(text, at, r.end, len);
-                const bool operand = std::isalnum(static_cast<unsigned char>(text[at])) || text[at] == '_' || text[at] == '(';
-                sink.error(at, len, "unexpected " + found + (operand ? " (missing operator or ','?)" : ""));
+                const lexical::Token t = lexical::token_at(text, at, r.end);
+                const bool operand = t.kind == lexical::Token::Kind::Word || t.kind == lexical::Token::Kind::Open;
+                sink.error(at, t.length, "unexpected " + t.shown + (operand ? " (missing operator or ','?)" : ""));
                 continue;
             }
             model.statements.push_back(std::move(st));
-        } catch (const x3::expectation_failure<std::string_view::const_iterator>& e) {
-            const std::size_t at = skip_blank(static_cast<std::size_t>(e.where() - text.begin()));
-            std::size_t len;
-            const std::string found = describe_word_at(text, at, r.end, len);
-            std::string what = e.which();
-            if (what == "operand" || what == "expression") what = "an expression";
-            else if (what == "name") what = "a name";
-            else if (what == "binding") what = "NAME = VALUE";
-            sink.error(at, len, "expected " + what + ", found " + found);
         } catch (const parser::DepthExceeded& e) {
             sink.error(static_cast<std::size_t>(e.where - text.data()), 1,
                        "expression nested deeper than " + std::to_string(limits.expression.max_depth) + " levels");

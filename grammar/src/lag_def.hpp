@@ -18,7 +18,7 @@ struct lagrangian_stmt_class : annotate_position {};
 struct dissipation_stmt_class : annotate_position {};
 struct force_stmt_class : annotate_position {};
 struct initial_stmt_class : annotate_position {};
-struct statement_class {};
+struct statement_class : error_handler {}; // the entry rule
 
 inline const x3::rule<binding_class, ast::Binding> binding = "binding";
 inline const x3::rule<model_stmt_class, ast::ModelStmt> model_stmt = "model statement";

@@ -2,6 +2,7 @@
 /// \file
 /// Parsing `.lag` model files (lag-format.md) into position-tagged statements.
 #include "phynjo/grammar/ast.hpp"
+#include "phynjo/grammar/builtins.hpp"
 #include "phynjo/grammar/diagnostics.hpp"
 #include "phynjo/grammar/expression.hpp"
 
@@ -29,8 +30,8 @@ struct ParsedModel {
 /// Parses `text` (the whole file). `positions` must be constructed on the same text.
 ParsedModel parse_model(std::string_view text, Positions& positions, DiagnosticSink& sink, const FileLimits& limits = {});
 
-/// The keywords and built-in names of the language, which cannot be declared.
+/// The keywords of the language, which cannot be declared (nor can the built-in names:
+/// is_builtin in builtins.hpp).
 bool is_keyword(std::string_view name);
-bool is_builtin(std::string_view name);
 
 } // namespace phynjo::grammar

@@ -1,0 +1,36 @@
+#pragma once
+/// \file
+/// The built-in names of the model language (lag-format.md, *Lexical rules*), declared once:
+/// the constants `t` (time) and `pi`, and the functions. The converter to CAS expressions,
+/// the front end (names that cannot be declared) and the messages all read these tables.
+#include "phynjo/cas/expr.hpp"
+
+#include <array>
+#include <string>
+#include <string_view>
+
+namespace phynjo::grammar {
+
+struct BuiltinFunction {
+    std::string_view name;
+    cas::Expr (*apply)(cas::Expr); ///< the canonicalizing CAS factory
+};
+
+/// The built-in functions, in the order messages list them.
+inline constexpr std::array<BuiltinFunction, 6> builtin_functions{{{"sin", &cas::sin},
+                                                                   {"cos", &cas::cos},
+                                                                   {"tan", &cas::tan},
+                                                                   {"exp", &cas::exp},
+                                                                   {"log", &cas::log},
+                                                                   {"sqrt", &cas::sqrt}}};
+/// The built-in constants: time and π.
+inline constexpr std::array<std::string_view, 2> builtin_constants{"t", "pi"};
+
+/// The built-in function of that name, or nullptr.
+const BuiltinFunction* find_builtin_function(std::string_view name);
+/// True for every built-in name (constants and functions): such names cannot be declared.
+bool is_builtin(std::string_view name);
+/// "sin, cos, tan, exp, log, sqrt", for messages.
+std::string builtin_function_list();
+
+} // namespace phynjo::grammar
