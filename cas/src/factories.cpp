@@ -4,6 +4,7 @@
 #include <boost/container/small_vector.hpp>
 
 #include <algorithm>
+#include <cassert>
 #include <cstring>
 #include <numeric>
 #include <unordered_set>
@@ -109,7 +110,39 @@ namespace {
 
 bool less(Expr a, Expr b) noexcept { return compare(a, b) < 0; }
 
+// The canonical-form invariants of expr.hpp (the ones tests/cas/test_canonical.cpp checks on
+// random expressions), asserted on every node the factories make, in builds with assertions
+// (Debug, and the sanitizer build, which compiles the CAS with them: SymEngine's habit).
+#ifndef NDEBUG
+Expr base_or_self(Expr f) { return f.kind() == Kind::Pow ? f.args()[0] : f; }
+void assert_canonical_mul(Expr coef, std::span<const Expr> factors) {
+    assert(!coef.is_zero() && "Mul: a zero coefficient");
+    assert((factors.size() >= 2 || !coef.is_one()) && "Mul: a lone factor with coefficient 1");
+    for (std::size_t i = 0; i < factors.size(); ++i) {
+        assert(factors[i].kind() != Kind::Number && factors[i].kind() != Kind::Mul && "Mul: a number or Mul factor");
+        assert((i == 0 || compare(base_or_self(factors[i - 1]), base_or_self(factors[i])) < 0) &&
+               "Mul: factors not sorted by base, or a base twice");
+    }
+}
+void assert_canonical_add(std::span<const Expr> rests, std::span<const Expr> coefs) {
+    assert(!rests.empty() && "Add: no terms");
+    for (std::size_t i = 0; i < rests.size(); ++i) {
+        assert(!coefs[i].is_zero() && "Add: a zero coefficient");
+        assert(rests[i].kind() != Kind::Number && rests[i].kind() != Kind::Add && "Add: a number or Add term");
+        assert((rests[i].kind() != Kind::Mul || rests[i]->number.is_one()) && "Add: a Mul term with its coefficient");
+        assert((i == 0 || compare(rests[i - 1], rests[i]) < 0) && "Add: terms not sorted, or a term twice");
+    }
+}
+void assert_canonical_pow(Expr b, Expr e) {
+    assert(!e.is_zero() && !e.is_one() && !b.is_one() && "Pow: x^0, x^1 or 1^x");
+    assert((b.kind() != Kind::Number || !e.is_integer()) && "Pow: a number to an integer power");
+}
+#endif
+
 Expr make_mul_node(Expr coef, std::span<const Expr> factors) {
+#ifndef NDEBUG
+    assert_canonical_mul(coef, factors);
+#endif
     NodeKey k{Kind::Mul};
     k.number = coef;
     k.args = factors;
@@ -117,6 +150,11 @@ Expr make_mul_node(Expr coef, std::span<const Expr> factors) {
 }
 
 Expr make_add_node(Expr constant, std::span<const Expr> rests, std::span<const Expr> coefs) {
+#ifndef NDEBUG
+    assert(rests.size() == coefs.size() && !rests.empty());
+    assert((rests.size() >= 2 || !constant.is_zero() || !coefs[0].is_one()) && "Add: a lone term x + 0");
+    assert_canonical_add(rests, coefs);
+#endif
     NodeKey k{Kind::Add};
     k.number = constant;
     k.args = rests;
@@ -125,6 +163,9 @@ Expr make_add_node(Expr constant, std::span<const Expr> rests, std::span<const E
 }
 
 Expr make_pow_node(Expr b, Expr e) {
+#ifndef NDEBUG
+    assert_canonical_pow(b, e);
+#endif
     const Expr args[2] = {b, e};
     NodeKey k{Kind::Pow};
     k.args = args;
