@@ -34,16 +34,17 @@ test-sanitize: deps
 
 # libFuzzer (clang) on the expression parser, the .lag front end and the CAS passes, each for
 # FUZZ_SECONDS; inputs the fuzzers keep are written to fuzz/corpus/ (commit them: the
-# corpus replays as ordinary tests).
+# corpus replays as ordinary tests); crashes, timeouts and slow inputs to $(BUILD)-fuzz/artifacts/.
 FUZZ_SECONDS ?= 600
 fuzz: deps
 	PHYNJO_FUZZ_DEPS=1 scripts/install-deps
 	CC=clang CXX=clang++ cmake -S . -B $(BUILD)-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPHYNJO_SANITIZE=ON \
 	  -DPHYNJO_FUZZ=ON -DPHYNJO_BUILD_TESTS=OFF $(CMAKE_ARGS)
 	cmake --build $(BUILD)-fuzz -j $(JOBS) --target fuzz_expression fuzz_lag fuzz_cas
+	mkdir -p $(BUILD)-fuzz/artifacts
 	for t in expression lag cas; do \
 	  $(BUILD)-fuzz/fuzz/fuzz_$$t -max_total_time=$(FUZZ_SECONDS) -timeout=10 -rss_limit_mb=2048 \
-	    -max_len=4096 -print_final_stats=1 fuzz/corpus/$$t || exit 1; \
+	    -max_len=4096 -print_final_stats=1 -artifact_prefix=$(BUILD)-fuzz/artifacts/ fuzz/corpus/$$t || exit 1; \
 	done
 
 demo: build

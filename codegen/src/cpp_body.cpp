@@ -8,7 +8,7 @@ namespace phynjo::codegen::detail {
 
 std::string body(const Names& names, const std::vector<Expr>& outputs, std::vector<std::string>& results,
                  bool& uses_t, bool& uses_params) {
-    const cas::CseResult r = cas::cse(outputs, {.prefix = "x", .hoist_power_bases = true});
+    const cas::CseResult r = cas::cse(outputs, {.prefix = names.temp_prefix(), .hoist_power_bases = true});
     cas::CppOptions cpp;
     cpp.variable_name = [&](Expr v) { return names.local(v); };
     // the variables used, in a deterministic order

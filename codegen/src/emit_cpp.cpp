@@ -37,7 +37,8 @@ EmittedCpp emit_cpp(const Model& m, const EquationsOfMotion& raw, const EmitOpti
       << "    if (a.size() != n)\n"
       << "        throw std::invalid_argument(std::string(\"" << m.name << "::\") + function + \": \" + name + \" has \" +\n"
       << "                                    std::to_string(a.size()) + \" entries, expected \" + std::to_string(n));\n"
-      << "}\n} // namespace\n\n";
+      << "}\n";
+    s << emit_derived_parameters(m) << "} // namespace\n\n";
     s << emit_functions(m, eom, Names(m)) << emit_glue(m);
     if (options.main) s << emit_main(m);
     out.source = s.str();

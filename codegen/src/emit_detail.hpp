@@ -15,6 +15,12 @@ namespace phynjo::codegen::detail {
 
 using cas::Expr;
 
+/// The C++ expression of a parameter's current value inside generated functions: `P.m`, or
+/// for a parameter defined from others `param_I(P)` (emit_derived_parameters).
+inline std::string parameter_value(const Parameter& p) {
+    return p.derived() ? "param_" + p.name + "(P)" : "P." + p.name;
+}
+
 class Names {
 public:
     explicit Names(const Model& m) {
@@ -26,10 +32,25 @@ public:
         }
         for (std::size_t j = 0; j < m.parameters.size(); ++j) {
             local_.emplace(m.parameters[j].symbol, "k" + std::to_string(j));
-            load_.emplace(m.parameters[j].symbol, "P." + m.parameters[j].name);
+            load_.emplace(m.parameters[j].symbol, parameter_value(m.parameters[j]));
         }
         local_.emplace(cas::time_symbol(), "t");
+        // CSE temporaries are symbols named PREFIX<n>: a prefix no user name continues with
+        // digits (a coordinate `x1` must not become temporary x1 of some function).
+        auto clashes = [&] {
+            for (const auto& [v, local] : local_) {
+                if (v.kind() != cas::Kind::Symbol) continue;
+                const std::string_view n = cas::symbol_name(v);
+                if (n.size() > temp_prefix_.size() && n.substr(0, temp_prefix_.size()) == temp_prefix_ &&
+                    n.find_first_not_of("0123456789", temp_prefix_.size()) == std::string_view::npos)
+                    return true;
+            }
+            return false;
+        };
+        while (clashes()) temp_prefix_ += "_";
     }
+    /// The prefix of CSE temporaries: never a user name followed by digits.
+    const std::string& temp_prefix() const noexcept { return temp_prefix_; }
     std::string local(Expr v) const {
         if (auto it = local_.find(v); it != local_.end()) return it->second;
         return std::string(cas::symbol_name(v)); // a CSE temporary
@@ -43,6 +64,7 @@ public:
 
 private:
     std::unordered_map<Expr, std::string> local_, load_;
+    std::string temp_prefix_ = "x";
 };
 
 /// Straight-line code computing `outputs`: returns the statements, and the C++ expression of
@@ -59,6 +81,9 @@ std::string emit_header(const Model& m);
 /// The model's functions (mass_matrix, forcing, momenta, generalized_forces, accelerations,
 /// energy, initial_state), from `eom` in Horner form.
 std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const Names& names);
+/// `param_NAME(P)` for each parameter defined from others: its assigned value, or its
+/// definition at the current values of the parameters it is defined from.
+std::string emit_derived_parameters(const Model& m);
 /// The runtime glue: system(), make_world(), workflow().
 std::string emit_glue(const Model& m);
 /// main(): the runtime's command-line driver with the model's parameters.

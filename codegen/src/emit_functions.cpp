@@ -1,5 +1,6 @@
 // The model's functions in the generated source: mass_matrix, forcing, momenta,
-// generalized_forces, accelerations (with the closed-form 1×1 and 2×2 solves, LDLᵀ above),
+// generalized_forces, accelerations (closed-form 1×1 and 2×2 solves; above, LDLᵀ with a
+// pivoted-LU fallback for indefinite M),
 // energy and initial_state; each one straight-line body from one CSE pass.
 #include "emit_detail.hpp"
 
@@ -68,15 +69,16 @@ std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const N
         auto fi = [&](std::size_t i) { return res[upper.size() + i]; };
         if (n == 1) {
             s << "    const double m00 = " << Mij(0, 0) << ";\n"
-              << "    if (!(m00 > 0)) throw phynjo::runtime::SingularMassMatrix(\"" << m.name
-              << "::accelerations: the mass matrix is not positive definite\");\n"
+              << "    if (m00 == 0) throw phynjo::runtime::SingularMassMatrix(\"" << m.name
+              << "::accelerations: the mass matrix is singular\");\n"
               << "    qddot[0] = (" << fi(0) << ")/m00;\n";
         } else if (n == 2) {
             s << "    const double m00 = " << Mij(0, 0) << ", m01 = " << Mij(0, 1) << ", m11 = " << Mij(1, 1) << ";\n"
               << "    const double f0 = " << fi(0) << ", f1 = " << fi(1) << ";\n"
               << "    const double det = m00*m11 - m01*m01;\n"
-              << "    if (!(m00 > 0) || !(det > 0)) throw phynjo::runtime::SingularMassMatrix(\"" << m.name
-              << "::accelerations: the mass matrix is not positive definite\");\n"
+              << "    if (std::fabs(det) <= phynjo::runtime::kSingularTolerance*(std::fabs(m00*m11) + m01*m01))\n"
+              << "        throw phynjo::runtime::SingularMassMatrix(\"" << m.name
+              << "::accelerations: the mass matrix is singular\");\n"
               << "    const double inv = 1.0/det;\n"
               << "    qddot[0] = (m11*f0 - m01*f1)*inv;\n"
               << "    qddot[1] = (m00*f1 - m01*f0)*inv;\n";
@@ -86,7 +88,7 @@ std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const N
                 for (std::size_t j = 0; j < n; ++j) s << (i || j ? ", " : "") << (j <= i ? Mij(i, j) : "0.0");
             s << "};\n    double b[" << n << "] = {";
             for (std::size_t i = 0; i < n; ++i) s << (i ? ", " : "") << fi(i);
-            s << "};\n    phynjo::runtime::solve_spd<" << n << ">(A, b);\n"
+            s << "};\n    phynjo::runtime::solve_symmetric<" << n << ">(A, b);\n"
               << "    for (std::size_t i = 0; i < " << n << "; ++i) qddot[i] = b[i];\n";
         }
         s << "    for (std::size_t i = 0; i < " << n << "; ++i)\n"

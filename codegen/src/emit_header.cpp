@@ -1,5 +1,5 @@
 // The generated header (generated-api.md): the model's constants, its Parameters and every
-// declaration.
+// declaration; and the source's resolution of parameters defined from others.
 #include "emit_detail.hpp"
 
 #include <sstream>
@@ -16,10 +16,16 @@ std::string emit_header(const Model& m) {
       << "/// Number of generalized coordinates.\ninline constexpr std::size_t dof = " << n << ";\n"
       << "/// The coordinates, in file order.\ninline constexpr std::array<std::string_view, dof> coordinate_names{";
     for (std::size_t i = 0; i < n; ++i) h << (i ? ", " : "") << '"' << m.coordinates[i].name << '"';
-    h << "};\n\n/// The parameters, with the defaults of the model file.\nstruct Parameters {\n";
-    for (const auto& p : m.parameters)
-        h << "    double " << p.name << " = " << cas::double_literal(p.default_value) << "; ///< " << cas::to_string(p.value)
-          << "\n";
+    h << "};\n\n/// The parameters, with the defaults of the model file. A parameter defined from others\n"
+      << "/// (phynjo::runtime::Derived) follows them until it is assigned a value.\nstruct Parameters {\n";
+    for (const auto& p : m.parameters) {
+        if (p.derived())
+            h << "    phynjo::runtime::Derived " << p.name << " = phynjo::runtime::Derived::following("
+              << cas::double_literal(p.default_value) << "); ///< " << cas::to_string(p.definition) << "\n";
+        else
+            h << "    double " << p.name << " = " << cas::double_literal(p.default_value) << "; ///< "
+              << cas::to_string(p.value) << "\n";
+    }
     h << "};\n\n"
       << "// All arrays have length dof (M: dof*dof, row-major); a wrong length throws\n"
       << "// std::invalid_argument. None of these allocate.\n\n"
@@ -28,8 +34,8 @@ std::string emit_header(const Model& m) {
       << "/// f(q, q', t) of M q'' = f (lag-format.md, *Meaning*).\n"
       << "void forcing(const Parameters& P, double t, std::span<const double> q, std::span<const double> qdot,\n"
       << "             std::span<double> f);\n"
-      << "/// q'' solving M q'' = f. Throws phynjo::runtime::SingularMassMatrix when M is not positive\n"
-      << "/// definite, phynjo::runtime::NonFiniteResult when the result is not finite.\n"
+      << "/// q'' solving M q'' = f. Throws phynjo::runtime::SingularMassMatrix when M is singular at the\n"
+      << "/// state, phynjo::runtime::NonFiniteResult when the result is not finite.\n"
       << "void accelerations(const Parameters& P, double t, std::span<const double> q, std::span<const double> qdot,\n"
       << "                   std::span<double> qddot);\n"
       << "/// p = ∂L/∂q'.\n"
@@ -53,6 +59,20 @@ std::string emit_header(const Model& m) {
       << "                                          std::string_view integrator = \"rk4\");\n\n"
       << "} // namespace " << m.name << "\n";
     return h.str();
+}
+
+std::string emit_derived_parameters(const Model& m) {
+    std::unordered_map<Expr, std::string> value;
+    for (const Parameter& p : m.parameters) value.emplace(p.symbol, parameter_value(p));
+    cas::CppOptions cpp;
+    cpp.variable_name = [&](Expr v) { return value.at(v); };
+    std::ostringstream s;
+    for (const Parameter& p : m.parameters)
+        if (p.derived())
+            s << "[[maybe_unused]] double param_" << p.name << "(const Parameters& P) {\n"
+              << "    return P." << p.name << ".is_set() ? P." << p.name << ".value() : " << cas::to_cpp(p.definition, cpp)
+              << ";\n}\n";
+    return s.str();
 }
 
 } // namespace phynjo::codegen::detail

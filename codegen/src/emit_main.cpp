@@ -13,7 +13,8 @@ std::string emit_main(const Model& m) {
       << "    " << m.name << "::Parameters P;\n"
       << "    const phynjo::runtime::ModelCommandLine model{\"" << m.name << "\", {";
     for (std::size_t j = 0; j < m.parameters.size(); ++j)
-        s << (j ? ", " : "") << "{\"" << m.parameters[j].name << "\", &P." << m.parameters[j].name << "}";
+        s << (j ? ",\n        " : "\n        ") << "{\"" << m.parameters[j].name << "\", [&P](double v) { P." << m.parameters[j].name
+          << " = v; }}";
     s << "},\n"
       << "                                                  [&P] { return " << m.name << "::system(P); }};\n"
       << "    return phynjo::runtime::model_main(argc, argv, model);\n"

@@ -4,6 +4,7 @@
 #include "phynjo/cas/cas.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <array>
 #include <map>
 
@@ -211,8 +212,9 @@ private:
                 continue;
             }
             const Expr sym = cas::symbol(b.name.text);
+            const bool derived = !cas::free_symbols(*v).empty();
             if (declare(b.name, NameKind::Parameter, sym))
-                model_.parameters.push_back({b.name.text, sym, exact, dflt, span(b.name)});
+                model_.parameters.push_back({b.name.text, sym, exact, dflt, span(b.name), derived ? *v : Expr{}});
         }
     }
 
@@ -274,6 +276,21 @@ private:
             }
             const std::string what = "the initial value of " + b.name.text + b.primes;
             if (!constant(*v, b.value, what, true)) continue;
+            // a real number at the parameters' defaults (sqrt(-1) must not start a run at NaN)
+            {
+                std::unordered_map<Expr, Expr> values;
+                for (const Parameter& p : model_.parameters) values.emplace(p.symbol, p.value);
+                bool real = true;
+                try {
+                    real = std::isfinite(cas::evaluate(cas::subs(*v, values), {}));
+                } catch (const cas::Error&) {
+                    real = false;
+                }
+                if (!real) {
+                    error(span(b.value), what + " is not a finite real number (at the parameters' defaults)");
+                    continue;
+                }
+            }
             auto& slot = b.primes.empty() ? init_q_[*i] : init_qd_[*i];
             if (!slot.is_null()) {
                 error(span(b.name), "a second initial value for " + b.name.text + b.primes);

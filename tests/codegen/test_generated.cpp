@@ -1,9 +1,11 @@
 // The generated code of the example models: physics checks on the compiled functions, and
 // the runtime integration (workflows, integrators).
 #include "cart_pole.hpp"
+#include "bateman.hpp"
 #include "double_pendulum.hpp"
 #include "nlink_cart_5.hpp"
 #include "pendulum.hpp"
+#include "physical_pendulum.hpp"
 #include "spring_pendulum.hpp"
 
 #include <catch2/catch.hpp>
@@ -188,4 +190,60 @@ TEST_CASE("implicit midpoint is symmetric: a step of h then of -h returns to the
         INFO("h = " << h << ": |Φ(−h)Φ(h)y − y| = " << worst);
         CHECK(worst < 1e-13);
     }
+}
+
+// Catches: an invertible indefinite M refused ("not positive definite") or solved wrongly.
+// Bateman's Lagrangian m x'y' + g/2 (x y' − x' y) − k x y gives m x'' + g x' + k x = 0: from
+// x(0) = 1, x'(0) = 0, x(t) = e^{−γt}(cos ωt + (γ/ω) sin ωt) with γ = g/2m, ω² = k/m − γ².
+TEST_CASE("Bateman's dual oscillator: x is the damped oscillator, y its time-reversed mirror", "[codegen][generated]") {
+    bateman::Parameters P; // m = 1, g = 0.3, k = 2
+    World w = bateman::make_world(P);
+    w.at(kGQ, 1) = 1;
+    Stepper s(bateman::workflow(P, w, "rk4"));
+    const double gamma = P.g / (2 * P.m), omega = std::sqrt(P.k / P.m - gamma * gamma);
+    double worst = 0;
+    for (int k = 1; k <= 5000; ++k) {
+        s.step(w, 1e-3);
+        const double t = k * 1e-3;
+        const double x = std::exp(-gamma * t) * (std::cos(omega * t) + gamma / omega * std::sin(omega * t));
+        const double y = std::exp(gamma * t) * (std::cos(omega * t) - gamma / omega * std::sin(omega * t));
+        worst = std::max({worst, std::abs(w.at(kGQ, 0) - x), std::abs(w.at(kGQ, 1) - y) / std::exp(gamma * t)});
+    }
+    INFO("largest error over 5 s: " << worst);
+    CHECK(worst < 1e-10);
+}
+
+// Catches: a parameter defined from others (I = 1/2 Mp R²) left at its file value when one of
+// them changes (stale derived parameters), or overriding a value that was set explicitly.
+// th'' = −Mp g d sin th / (I + Mp d²).
+TEST_CASE("a parameter defined from others follows them unless it is set", "[codegen][generated]") {
+    auto expected = [](double Mp, double R, double d, double I, double th) {
+        (void)R;
+        return -Mp * 9.81 * d * std::sin(th) / (I + Mp * d * d);
+    };
+    std::vector<double> q{0.4}, v{0.0}, a(1);
+    physical_pendulum::Parameters P;
+    CHECK_FALSE(P.I.is_set());
+    physical_pendulum::accelerations(P, 0, q, v, a);
+    CHECK(a[0] == Approx(expected(2, 0.5, 0.3, 0.5 * 2 * 0.25, 0.4)).epsilon(1e-14));
+    P.Mp = 4; // I follows: 1/2 · 4 · 0.25 = 0.5
+    physical_pendulum::accelerations(P, 0, q, v, a);
+    CHECK(a[0] == Approx(expected(4, 0.5, 0.3, 0.5, 0.4)).epsilon(1e-14));
+    P.R = 1; // and again: I = 2
+    physical_pendulum::accelerations(P, 0, q, v, a);
+    CHECK(a[0] == Approx(expected(4, 1, 0.3, 2, 0.4)).epsilon(1e-14));
+    P.I = 0.7; // set: fixed from now on
+    P.Mp = 1;
+    CHECK(P.I.is_set());
+    physical_pendulum::accelerations(P, 0, q, v, a);
+    CHECK(a[0] == Approx(expected(1, 1, 0.3, 0.7, 0.4)).epsilon(1e-14));
+    const physical_pendulum::Parameters Q{.Mp = 3, .I = 0.9}; // designated initializers set it too
+    physical_pendulum::accelerations(Q, 0, q, v, a);
+    CHECK(a[0] == Approx(expected(3, 0.5, 0.3, 0.9, 0.4)).epsilon(1e-14));
+    P.I = phynjo::runtime::Derived::following(0); // follows again: I = 1/2 · 1 · 1
+    physical_pendulum::accelerations(P, 0, q, v, a);
+    CHECK(a[0] == Approx(expected(1, 1, 0.3, 0.5, 0.4)).epsilon(1e-14));
+    // and the energy uses the same I
+    CHECK(physical_pendulum::energy(P, 0, q, std::vector<double>{1.0}) ==
+          Approx(0.5 * (0.5 + 1 * 0.09) - 1 * 9.81 * 0.3 * std::cos(0.4)).epsilon(1e-14));
 }

@@ -1,11 +1,17 @@
-// Every solve path the emitter writes into `accelerations` — closed-form 1×1 (pendulum),
-// closed-form 2×2 (double, spring and spherical pendulum, cart-pole), LDLᵀ at n = 3 (triple
-// pendulum) and n = 6 (n-link cart) — against an independent solve of M q'' = f: Eigen's
-// full-pivot LU on the generated mass_matrix and forcing, at random states.
+// Every solve path the emitter writes into `accelerations` — closed-form 1×1 (pendulum; a
+// negative M), closed-form 2×2 (double, spring and spherical pendulum, cart-pole; Bateman's
+// indefinite M), LDLᵀ at n = 3 (triple pendulum) and n = 6 (n-link cart), and the pivoted-LU
+// fallback for an indefinite M (indefinite3) — against an independent solve of M q'' = f:
+// Eigen's full-pivot LU on the generated mass_matrix and forcing, at random states.
 // Catches: a sign or index error in an emitted closed form (e.g. qddot[1] of the 2×2), a wrong
-// forward/back substitution or pivot in solve_spd, M and f taken from mismatched CSE slots.
+// forward/back substitution or pivot in solve_symmetric, M and f taken from mismatched CSE
+// slots, an invertible indefinite M reported as singular.
 #include "cart_pole.hpp"
 #include "double_pendulum.hpp"
+#include "bateman.hpp"
+#include "collide.hpp"
+#include "indefinite3.hpp"
+#include "negative_mass.hpp"
 #include "nlink_cart_5.hpp"
 #include "pendulum.hpp"
 #include "spherical_pendulum.hpp"
@@ -15,6 +21,7 @@
 #include <Eigen/Dense>
 #include <catch2/catch.hpp>
 
+#include <cmath>
 #include <random>
 #include <string>
 #include <vector>
@@ -70,6 +77,7 @@ Checked against_independent_solve(const Parameters& P, Acc accelerations, Mass m
 
 TEST_CASE("emitted 1x1 solve: accelerations agree with an independent solve of M q'' = f", "[codegen][generated][solve]") {
     PHYNJO_SOLVE_CHECK(pendulum, 1);
+    PHYNJO_SOLVE_CHECK(negative_mass, 8);
 }
 
 TEST_CASE("emitted 2x2 closed form: accelerations agree with an independent solve of M q'' = f", "[codegen][generated][solve]") {
@@ -77,9 +85,47 @@ TEST_CASE("emitted 2x2 closed form: accelerations agree with an independent solv
     PHYNJO_SOLVE_CHECK(spring_pendulum, 3);
     PHYNJO_SOLVE_CHECK(spherical_pendulum, 4);
     PHYNJO_SOLVE_CHECK(cart_pole, 5);
+    PHYNJO_SOLVE_CHECK(bateman, 9);
 }
 
 TEST_CASE("emitted LDLT solve: accelerations agree with an independent solve of M q'' = f", "[codegen][generated][solve]") {
     PHYNJO_SOLVE_CHECK(triple_pendulum, 6);
     PHYNJO_SOLVE_CHECK(nlink_cart_5, 7);
+}
+
+TEST_CASE("an indefinite but invertible M is solved by the pivoted fallback, a singular one is reported", "[codegen][generated][solve]") {
+    PHYNJO_SOLVE_CHECK(indefinite3, 10);
+    // singular: m = 0 leaves only z' in the kinetic energy
+    indefinite3::Parameters P;
+    P.m = 0;
+    std::vector<double> q{0.1, 0.2, 0.3}, v{0.1, 0.2, 0.3}, a(3);
+    CHECK_THROWS_AS(indefinite3::accelerations(P, 0, q, v, a), phynjo::runtime::SingularMassMatrix);
+    bateman::Parameters B;
+    B.m = 0;
+    std::vector<double> q2{0.1, 0.2}, v2{0.3, 0.4}, a2(2);
+    CHECK_THROWS_AS(bateman::accelerations(B, 0, q2, v2, a2), phynjo::runtime::SingularMassMatrix);
+}
+
+// Catches: generated names colliding with the user's (a coordinate x1 taken for CSE
+// temporary x1, a parameter x0 for temporary x0: a redeclared local, or worse, a silently
+// wrong value). The model compiles at all only without collisions; here its values.
+TEST_CASE("user names like the emitter's own temporaries and locals", "[codegen][generated][solve]") {
+    PHYNJO_SOLVE_CHECK(collide, 11);
+    const collide::Parameters P;
+    std::vector<double> q(4), v(4);
+    collide::initial_state(P, q, v);
+    CHECK(q[0] == Approx(1.0 / 3));
+    CHECK(q[1] == Approx(2.0 / 5));
+    CHECK(q[2] == Approx(std::sqrt(2.0)));
+    CHECK(q[3] == Approx(1.0 / 3));
+    CHECK(v[0] == Approx(3.0 / 4));
+    CHECK(v[1] == 0);
+    // the mass matrix reads the parameters named P and M, not the function's own P and M
+    std::vector<double> M(16);
+    collide::mass_matrix(P, 0, q, M);
+    CHECK(M[0] == Approx(3));  // P
+    CHECK(M[5] == Approx(1));  // M
+    CHECK(M[10] == Approx(2)); // inv
+    CHECK(M[15] == Approx(1)); // det
+    CHECK(M[1] == Approx(0.5 * std::cos(std::sqrt(2.0)))); // f0 cos(x_0)
 }

@@ -10,6 +10,7 @@
 #include <random>
 
 #include "counting_allocator.hpp"
+#include "scenes.hpp"
 
 using phynjo::test::allocations;
 
@@ -83,20 +84,9 @@ TEST_CASE("steady-state steps allocate nothing", "[runtime][allocation]") {
         CHECK(count([&] { s.run(w, 1e-3, 1000); }) == 0);
     }
     SECTION("rigid spheres with contacts: a settled pile") {
-        Registry r;
-        std::vector<RigidInit> init;
-        for (int i = 0; i < 4; ++i)
-            for (int j = 0; j < 4; ++j)
-                for (int k = 0; k < 4; ++k) {
-                    r.add("s" + std::to_string(init.size()));
-                    RigidInit s;
-                    s.position = {0.06 + 0.12 * i, 0.06 + 0.12 * j, 0.06 + 0.12 * k};
-                    init.push_back(s);
-                }
-        World w = make_rigid_world(r, std::vector<RigidBody>(init.size(), RigidBody::solid_sphere(1, 0.05)), init,
-                                   contact_cache_fields());
-        const std::vector<Plane> planes{Plane::ground(), Plane{{1, 0, 0}, 0}, Plane{{-1, 0, 0}, -0.48},
-                                        Plane{{0, 0, 1}, 0}, Plane{{0, 0, -1}, -0.48}};
+        World w = phynjo::test::sphere_grid({.nx = 4, .ny = 4, .nz = 4, .origin = {0.06, 0.06, 0.06},
+                                             .spacing = {0.12, 0.12, 0.12}, .jitter = 0, .seed = 1});
+        const std::vector<Plane> planes = phynjo::test::box_walls(0.48);
         Stepper s(rigid_contact_step(Force3D::gravity(9.81), all_bodies(w), planes,
                                      ContactMaterial{restitution_curve(0.5, 0.2), constant_curve(0.5)}, {}, w.layout_ptr()));
         s.run(w, 1.0 / 240, 480); // settle: scratch grows to the largest contact count
@@ -105,22 +95,9 @@ TEST_CASE("steady-state steps allocate nothing", "[runtime][allocation]") {
     SECTION("rigid spheres with contacts: a pile while it falls, lands and piles up") {
         // Catches: scratch (contact lists, broad-phase cells, warm-start slots) that grows
         // as contacts appear; the settled pile above never sees new contacts.
-        Registry r;
-        std::vector<RigidInit> init;
-        std::mt19937_64 rng(11);
-        std::uniform_real_distribution<double> jitter(-0.01, 0.01);
-        for (int i = 0; i < 4; ++i)
-            for (int j = 0; j < 6; ++j)
-                for (int k = 0; k < 4; ++k) {
-                    r.add("s" + std::to_string(init.size()));
-                    RigidInit s;
-                    s.position = {0.07 + 0.11 * i + jitter(rng), 0.3 + 0.15 * j, 0.07 + 0.11 * k + jitter(rng)};
-                    init.push_back(s);
-                }
-        World w = make_rigid_world(r, std::vector<RigidBody>(init.size(), RigidBody::solid_sphere(1, 0.05)), init,
-                                   contact_cache_fields());
-        const std::vector<Plane> planes{Plane::ground(), Plane{{1, 0, 0}, 0}, Plane{{-1, 0, 0}, -0.48},
-                                        Plane{{0, 0, 1}, 0}, Plane{{0, 0, -1}, -0.48}};
+        const World w = phynjo::test::sphere_grid({.nx = 4, .ny = 6, .nz = 4, .origin = {0.07, 0.3, 0.07},
+                                                   .spacing = {0.11, 0.15, 0.11}, .jitter = 0.01, .seed = 11});
+        const std::vector<Plane> planes = phynjo::test::box_walls(0.48);
         for (ContactScheme scheme : {ContactScheme::gauss_seidel, ContactScheme::jacobi}) {
             World u = w;
             ContactOptions o;

@@ -8,32 +8,17 @@
 
 #include <catch2/catch.hpp>
 
+#include "scenes.hpp"
+
 #include <cstdint>
-#include <random>
 #include <string>
 
 using namespace phynjo::runtime;
 
 TEST_CASE("golden hash: a sphere pile falling between walls for 1 s", "[runtime][golden][determinism]") {
-    Registry reg;
-    std::vector<RigidInit> init;
-    std::mt19937 rng(7);
-    std::uniform_real_distribution<double> jitter(-0.01, 0.01);
-    for (int i = 0; i < 5; ++i)
-        for (int j = 0; j < 5; ++j)
-            for (int k = 0; k < 5; ++k) {
-                reg.add("s" + std::to_string(init.size()));
-                RigidInit s;
-                s.position = {0.07 + 0.13 * i + jitter(rng), 0.1 + 0.13 * j + jitter(rng), 0.07 + 0.13 * k + jitter(rng)};
-                s.angular_velocity = {jitter(rng), jitter(rng), jitter(rng)};
-                init.push_back(s);
-            }
-    World w = make_rigid_world(reg, std::vector<RigidBody>(init.size(), RigidBody::solid_sphere(1, 0.05)), init,
-                               contact_cache_fields());
-    const double L = 0.65;
-    const std::vector<Plane> planes{Plane::ground(), Plane{{1, 0, 0}, 0}, Plane{{-1, 0, 0}, -L}, Plane{{0, 0, 1}, 0},
-                                    Plane{{0, 0, -1}, -L}};
-    Stepper s(rigid_contact_step(Force3D::gravity(9.81), all_bodies(w), planes,
+    World w = phynjo::test::sphere_grid({.nx = 5, .ny = 5, .nz = 5, .origin = {0.07, 0.1, 0.07},
+                                         .spacing = {0.13, 0.13, 0.13}, .jitter = 0.01, .seed = 7, .spin = true});
+    Stepper s(rigid_contact_step(Force3D::gravity(9.81), all_bodies(w), phynjo::test::box_walls(0.65),
                                  ContactMaterial{restitution_curve(0.5, 0.2), constant_curve(0.4)}, {}, w.layout_ptr()));
     s.run(w, 1.0 / 240, 240);
     INFO("hash 0x" << std::hex << w.hash());
@@ -42,20 +27,7 @@ TEST_CASE("golden hash: a sphere pile falling between walls for 1 s", "[runtime]
 
 TEST_CASE("golden hash: an N-body cluster for 2,000 leapfrog steps on two partitions", "[runtime][golden][determinism]") {
     auto run = [] {
-        Registry reg;
-        for (int i = 0; i < 64; ++i) reg.add("star" + std::to_string(i));
-        World w = make_particles(reg, 2);
-        std::mt19937 rng(3);
-        std::uniform_real_distribution<double> u(-1, 1);
-        for (Index i = 0; i < w.size(); ++i) {
-            w.at(kX, i) = u(rng);
-            w.at(kY, i) = u(rng);
-            w.at(kZ, i) = u(rng);
-            w.at(kVX, i) = 0.2 * u(rng);
-            w.at(kVY, i) = 0.2 * u(rng);
-            w.at(kVZ, i) = 0.2 * u(rng);
-            w.at(kMass, i) = (1.2 + 0.5 * u(rng)) / 64;
-        }
+        World w = phynjo::test::random_cluster(64, 3, 2, 0.2, 1.2);
         Executor ex(2);
         Stepper s(nbody_leapfrog({1.0, 1e-2}, w.layout_ptr(), 2), &ex);
         s.run(w, 1e-3, 2000);

@@ -4,6 +4,8 @@
 
 #include <catch2/catch.hpp>
 
+#include "scenes.hpp"
+
 #include <cmath>
 #include <random>
 
@@ -30,23 +32,7 @@ World kepler(double e, double& period) {
     return w;
 }
 
-World cluster(int n, std::uint32_t seed, int partitions) {
-    Registry r;
-    for (int i = 0; i < n; ++i) r.add("star" + std::to_string(i));
-    World w = make_particles(r, partitions);
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<double> u(-1, 1);
-    for (Index i = 0; i < static_cast<Index>(n); ++i) {
-        w.at(kX, i) = u(rng);
-        w.at(kY, i) = u(rng);
-        w.at(kZ, i) = u(rng);
-        w.at(kVX, i) = 0.3 * u(rng);
-        w.at(kVY, i) = 0.3 * u(rng);
-        w.at(kVZ, i) = 0.3 * u(rng);
-        w.at(kMass, i) = (1 + u(rng) * 0.5) / n;
-    }
-    return w;
-}
+World cluster(int n, std::uint32_t seed, int partitions) { return phynjo::test::random_cluster(n, seed, partitions); }
 
 } // namespace
 

@@ -38,9 +38,9 @@ int model_main(int argc, char** argv, const ModelCommandLine& model) {
             const std::string name = kv.substr(0, eq);
             const double v = eq == std::string::npos ? 0 : std::atof(kv.c_str() + eq + 1);
             bool found = false;
-            for (const auto& [pname, where] : model.parameters)
+            for (const auto& [pname, set] : model.parameters)
                 if (name == pname) {
-                    *where = v;
+                    set(v);
                     found = true;
                 }
             if (!found || eq == std::string::npos) {

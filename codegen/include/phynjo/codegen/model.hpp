@@ -27,6 +27,11 @@ struct Parameter {
     cas::Expr value;          ///< exact constant (numbers, pi, functions of them)
     double default_value = 0; ///< the value correctly rounded to double
     SourceSpan where;
+    /// For a parameter defined from others (`I = 1/2*Mp*R^2`): that definition, in terms of
+    /// earlier parameters. The generated code makes it follow them unless it is set. Null
+    /// for a plain number.
+    cas::Expr definition;
+    [[nodiscard]] bool derived() const noexcept { return !definition.is_null(); }
 };
 
 struct Model {

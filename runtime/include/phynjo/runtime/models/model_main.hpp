@@ -19,8 +19,9 @@ namespace phynjo::runtime {
 /// What the driver needs of a generated model.
 struct ModelCommandLine {
     std::string_view model_name;
-    /// Every parameter by name, with where its value lives (set by --param before the run).
-    std::vector<std::pair<std::string_view, double*>> parameters;
+    /// Every parameter by name, with how to set it (--param, before the run). Setting a
+    /// parameter defined from others fixes it; the others follow what they are defined from.
+    std::vector<std::pair<std::string_view, std::function<void(double)>>> parameters;
     /// The model at the current parameter values.
     std::function<LagrangianSystem()> system;
 };
