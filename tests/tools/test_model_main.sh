@@ -20,6 +20,36 @@ pend="$bin/pendulum_sim"; dp="$bin/double_pendulum_sim"
 "$pend" --integrator euler 2>/dev/null; [ $? -eq 2 ] && ok "unknown integrator: exit 2" || bad "unknown integrator"
 "$pend" --output "$work/no/such/dir.csv" 2>/dev/null; [ $? -eq 1 ] && ok "unwritable output: exit 1" || bad "unwritable output"
 
+# strict numbers: a typo is a usage error, not a silent 0 or a truncated value
+for bad in "--param g=abc" "--t-end 1e-2x" "--dt abc" "--every 0" "--every 2.5" "--init theta=1x" "--init nope=1" \
+           "--fail-on-drift" "--energy-tolerance -1" "--param g"; do
+  "$pend" $bad --t-end 0.01 >/dev/null 2>&1; rc=$?
+  [ $rc -eq 2 ] && ok "usage error: $bad" || bad "usage error: $bad (exit $rc)"
+done
+"$pend" --help | grep -q "default 10" && "$pend" --help | grep -q "default 0.001" && "$pend" --help | grep -q "parameters: m, l, g" \
+  && ok "--help shows the defaults and the parameters" || bad "--help defaults"
+
+# the run ends exactly at --t-end with a shortened last step, always writes the last row, and
+# t is k*dt (ten steps of 0.1 end at 1, not at the accumulated 0.9999999999999999)
+"$pend" --t-end 1 --dt 0.1 --every 1 > "$work/t.csv"
+[ "$(tail -1 "$work/t.csv" | cut -d, -f1)" = "1" ] && ok "t = k*dt exactly" || bad "t column: $(tail -1 "$work/t.csv" | cut -d, -f1)"
+"$pend" --t-end 1 --dt 0.3 --every 2 > "$work/short.csv"
+[ "$(cut -d, -f1 "$work/short.csv" | tr '\n' ' ')" = "t 0 0.59999999999999998 1 " ] && ok "last step shortened to end at t-end; last row written" \
+  || bad "shortened last step: $(cut -d, -f1 "$work/short.csv" | tr '\n' ' ')"
+
+# --init overrides the model's initial values (coordinates and velocities, comma-separated)
+"$dp" --t-end 0 --init "th1=0.3, th2'=-0.5" > "$work/init.csv"
+[ "$(sed -n 2p "$work/init.csv" | cut -d, -f1-5)" = "0,0.29999999999999999,1.5707963267948966,0,-0.5" ] && ok "--init" \
+  || bad "--init: $(sed -n 2p "$work/init.csv")"
+
+# the energy check: the midpoint rule at a coarse step drifts beyond 1e-9 but not 1e-2
+"$dp" --t-end 2 --dt 0.01 --integrator midpoint --energy-tolerance 1e-9 --fail-on-drift >/dev/null 2>"$work/drift"; rc=$?
+[ $rc -eq 3 ] && grep -q "the energy drifted by" "$work/drift" && ok "--energy-tolerance with --fail-on-drift: exit 3" || bad "drift check rc=$rc"
+"$dp" --t-end 2 --dt 0.01 --integrator midpoint --energy-tolerance 1e-2 --fail-on-drift >/dev/null 2>"$work/drift"; rc=$?
+[ $rc -eq 0 ] && [ ! -s "$work/drift" ] && ok "energy within the tolerance: exit 0, silent" || bad "drift within tolerance rc=$rc"
+"$dp" --t-end 2 --dt 0.01 --integrator midpoint --energy-tolerance 1e-9 >/dev/null 2>"$work/drift"; rc=$?
+[ $rc -eq 0 ] && grep -q "the energy drifted by" "$work/drift" && ok "--energy-tolerance alone reports, exit 0" || bad "drift report rc=$rc"
+
 "$dp" --t-end 1 --dt 1e-3 --every 100 --output "$work/dp.csv"
 [ "$(head -1 "$work/dp.csv")" = "t,th1,th2,th1',th2',E" ] && ok "CSV header: t, q..., q'..., E" || bad "CSV header [$(head -1 "$work/dp.csv")]"
 [ "$(wc -l < "$work/dp.csv")" -eq 12 ] && ok "--every 100 over 1000 steps: 11 rows" || bad "row count $(wc -l < "$work/dp.csv")"

@@ -6,100 +6,206 @@
 #include "phynjo/runtime/integrators/lagrangian_rk4.hpp"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <exception>
+#include <optional>
 #include <string>
 
 namespace phynjo::runtime {
 
+namespace {
+
+/// A whole argument as a finite number, or nothing ("1e-2x", "abc", "" are not numbers).
+std::optional<double> number(std::string_view s) {
+    double v = 0;
+    const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+    if (ec != std::errc() || end != s.data() + s.size() || s.empty() || !std::isfinite(v)) return std::nullopt;
+    return v;
+}
+
+std::optional<long> whole_number(std::string_view s) {
+    long v = 0;
+    const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+    if (ec != std::errc() || end != s.data() + s.size() || s.empty()) return std::nullopt;
+    return v;
+}
+
+struct UsageError {
+    std::string message;
+};
+
+void help(const char* prog, const ModelCommandLine& model, const LagrangianSystem& sys) {
+    std::string params, coords;
+    for (const auto& [name, set] : model.parameters) params += (params.empty() ? "" : ", ") + std::string(name);
+    for (const auto& n : sys.coordinate_names) coords += (coords.empty() ? "" : ", ") + n;
+    std::printf("usage: %s [--t-end T] [--dt DT] [--integrator rk4|dopri|midpoint] [--every K]\n"
+                "          [--param NAME=VALUE]... [--init NAME=VALUE[,NAME'=VALUE]...]... [--output FILE]\n"
+                "          [--energy-tolerance TOL [--fail-on-drift]]\n"
+                "Simulates the model %.*s from its initial state and writes CSV: t, q..., q'..., E.\n"
+                "  --t-end T              end time in s (default 10); the run ends exactly at T\n"
+                "  --dt DT                step in s (default 0.001); the last step is shortened to end at T\n"
+                "  --integrator NAME      rk4 (default), dopri (Dormand-Prince 5(4), adaptive between the\n"
+                "                         rows), or midpoint (symplectic: bounded energy error)\n"
+                "  --every K              write every K-th step (default: about 5000 rows); the first and\n"
+                "                         the last row are always written; t is exactly k*DT\n"
+                "  --param NAME=VALUE     set a parameter (repeatable); parameters: %s\n"
+                "  --init NAME=VALUE      set an initial value: NAME a coordinate, NAME' its velocity\n"
+                "                         (repeatable, or comma-separated); coordinates: %s\n"
+                "  --energy-tolerance TOL report on stderr when |E(t) - E(0)| exceeds TOL*max(1, |E(0)|)\n"
+                "                         (meaningful for conservative models; default: no check)\n"
+                "  --fail-on-drift        with --energy-tolerance: exit 3 when it is exceeded\n"
+                "  --output FILE, -o FILE write the CSV to FILE (default: standard output)\n"
+                "Exit status: 0 done, 1 the run stopped (the message says why and when), 2 usage error,\n"
+                "3 energy drift beyond the tolerance (with --fail-on-drift).\n",
+                prog, static_cast<int>(model.model_name.size()), model.model_name.data(), params.empty() ? "(none)" : params.c_str(),
+                coords.c_str());
+}
+
+} // namespace
+
 int model_main(int argc, char** argv, const ModelCommandLine& model) {
     double t_end = 10, dt = 1e-3;
+    std::optional<double> energy_tolerance;
+    bool fail_on_drift = false;
     std::string integrator = "rk4", output;
     long every = 0;
-    for (int i = 1; i < argc; ++i) {
-        const std::string a = argv[i];
-        auto value = [&](const char* opt) -> std::string {
-            if (i + 1 >= argc) {
-                std::fprintf(stderr, "%s: %s needs a value\n", argv[0], opt);
-                std::exit(2);
-            }
-            return argv[++i];
-        };
-        if (a == "--t-end") t_end = std::atof(value("--t-end").c_str());
-        else if (a == "--dt") dt = std::atof(value("--dt").c_str());
-        else if (a == "--integrator") integrator = value("--integrator");
-        else if (a == "--every") every = std::atol(value("--every").c_str());
-        else if (a == "--output" || a == "-o") output = value("--output");
-        else if (a == "--param") {
-            const std::string kv = value("--param");
-            const auto eq = kv.find('=');
-            const std::string name = kv.substr(0, eq);
-            const double v = eq == std::string::npos ? 0 : std::atof(kv.c_str() + eq + 1);
-            bool found = false;
-            for (const auto& [pname, set] : model.parameters)
-                if (name == pname) {
-                    set(v);
-                    found = true;
+    std::vector<std::pair<std::string, double>> inits;
+    try {
+        for (int i = 1; i < argc; ++i) {
+            const std::string a = argv[i];
+            auto value = [&](const char* opt) -> std::string {
+                if (i + 1 >= argc) throw UsageError{std::string(opt) + " needs a value"};
+                return argv[++i];
+            };
+            auto num = [&](const char* opt) {
+                const std::string v = value(opt);
+                if (auto x = number(v)) return *x;
+                throw UsageError{std::string(opt) + ": '" + v + "' is not a number"};
+            };
+            auto assignment = [&](const char* opt, const std::string& kv) {
+                const auto eq = kv.find('=');
+                if (eq == std::string::npos || eq == 0) throw UsageError{std::string(opt) + ": expected NAME=VALUE, got '" + kv + "'"};
+                const auto v = number(std::string_view(kv).substr(eq + 1));
+                if (!v) throw UsageError{std::string(opt) + ": '" + kv.substr(eq + 1) + "' is not a number (in '" + kv + "')"};
+                return std::pair{kv.substr(0, eq), *v};
+            };
+            if (a == "--t-end") t_end = num("--t-end");
+            else if (a == "--dt") dt = num("--dt");
+            else if (a == "--integrator") integrator = value("--integrator");
+            else if (a == "--every") {
+                const std::string v = value("--every");
+                const auto k = whole_number(v);
+                if (!k || *k <= 0) throw UsageError{"--every: '" + v + "' is not a positive whole number"};
+                every = *k;
+            } else if (a == "--output" || a == "-o") output = value("--output");
+            else if (a == "--energy-tolerance") {
+                energy_tolerance = num("--energy-tolerance");
+                if (!(*energy_tolerance > 0)) throw UsageError{"--energy-tolerance must be positive"};
+            } else if (a == "--fail-on-drift") fail_on_drift = true;
+            else if (a == "--param") {
+                const auto [name, v] = assignment("--param", value("--param"));
+                bool found = false;
+                for (const auto& [pname, set] : model.parameters)
+                    if (name == pname) {
+                        set(v);
+                        found = true;
+                    }
+                if (!found) throw UsageError{"unknown parameter '" + name + "' (try --help)"};
+            } else if (a == "--init") {
+                std::string list = value("--init");
+                std::size_t start = 0;
+                while (start <= list.size()) {
+                    const std::size_t comma = list.find(',', start);
+                    std::string item = list.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+                    item.erase(0, item.find_first_not_of(' '));
+                    item.erase(item.find_last_not_of(' ') + 1);
+                    inits.push_back(assignment("--init", item));
+                    if (comma == std::string::npos) break;
+                    start = comma + 1;
                 }
-            if (!found || eq == std::string::npos) {
-                std::fprintf(stderr, "%s: unknown parameter in '%s'\n", argv[0], kv.c_str());
-                return 2;
-            }
-        } else if (a == "--help" || a == "-h") {
-            std::printf("usage: %s [--t-end T] [--dt DT] [--integrator rk4|dopri|midpoint] [--every K]\n"
-                        "          [--param NAME=VALUE]... [--output FILE]\n"
-                        "Simulates the model from its initial state and writes CSV: t, q..., q'..., E.\n",
-                        argv[0]);
-            return 0;
-        } else {
-            std::fprintf(stderr, "%s: unknown option '%s' (try --help)\n", argv[0], a.c_str());
-            return 2;
+            } else if (a == "--help" || a == "-h") {
+                help(argv[0], model, model.system());
+                return 0;
+            } else throw UsageError{"unknown option '" + a + "' (try --help)"};
         }
-    }
-    if (!(dt > 0) || !(t_end >= 0) || (integrator != "rk4" && integrator != "dopri" && integrator != "midpoint")) {
-        std::fprintf(stderr, "%s: need --dt > 0, --t-end >= 0 and --integrator rk4, dopri or midpoint\n", argv[0]);
+        if (!(dt > 0)) throw UsageError{"--dt must be positive"};
+        if (!(t_end >= 0)) throw UsageError{"--t-end must not be negative"};
+        if (integrator != "rk4" && integrator != "dopri" && integrator != "midpoint")
+            throw UsageError{"--integrator must be rk4, dopri or midpoint, not '" + integrator + "'"};
+        if (fail_on_drift && !energy_tolerance) throw UsageError{"--fail-on-drift needs --energy-tolerance"};
+    } catch (const UsageError& e) {
+        std::fprintf(stderr, "%s: %s\n", argv[0], e.message.c_str());
         return 2;
     }
-    const long steps = static_cast<long>(std::llround(t_end / dt));
+
+    const LagrangianSystem sys = model.system();
+    World w = make_lagrangian_world(sys);
+    const std::size_t dof = sys.dof;
+    for (const auto& [name, v] : inits) {
+        const bool velocity = !name.empty() && name.back() == '\'';
+        const std::string coord = velocity ? name.substr(0, name.size() - 1) : name;
+        const auto it = std::find(sys.coordinate_names.begin(), sys.coordinate_names.end(), coord);
+        if (it == sys.coordinate_names.end()) {
+            std::fprintf(stderr, "%s: --init: '%s' is not a coordinate (try --help)\n", argv[0], coord.c_str());
+            return 2;
+        }
+        w.at(velocity ? kGV : kGQ, static_cast<Index>(it - sys.coordinate_names.begin())) = v;
+    }
+    // Full steps, then a shortened last one: the run ends exactly at t_end (a ratio within
+    // 1e-9 of a whole number counts as that number: 20 / 0.001 is 20000, not 20000.000000000004).
+    const double ratio = t_end / dt;
+    long steps = static_cast<long>(std::floor(ratio));
+    if (ratio - static_cast<double>(steps) > 1 - 1e-9) ++steps;
+    const double last = t_end - static_cast<double>(steps) * dt;
+    const bool short_step = last > 1e-9 * dt;
     if (every <= 0) every = std::max(1L, steps / 5000);
+
     std::FILE* out = output.empty() ? stdout : std::fopen(output.c_str(), "w");
     if (!out) {
         std::fprintf(stderr, "%s: cannot write %s\n", argv[0], output.c_str());
         return 1;
     }
-    const LagrangianSystem sys = model.system();
-    World w = make_lagrangian_world(sys);
-    const std::size_t dof = sys.dof;
     std::fprintf(out, "t");
     for (const auto& n : sys.coordinate_names) std::fprintf(out, ",%s", n.c_str());
     for (const auto& n : sys.coordinate_names) std::fprintf(out, ",%s'", n.c_str());
     std::fprintf(out, ",E\n");
+    const double e0 = sys.energy(0, w.field(kGQ), w.field(kGV));
+    double drift = 0;
     auto row = [&] {
+        const double e = sys.energy(w.time, w.field(kGQ), w.field(kGV));
+        drift = std::max(drift, std::fabs(e - e0));
         std::fprintf(out, "%.17g", w.time);
         for (std::size_t i = 0; i < dof; ++i) std::fprintf(out, ",%.17g", w.at(kGQ, static_cast<Index>(i)));
         for (std::size_t i = 0; i < dof; ++i) std::fprintf(out, ",%.17g", w.at(kGV, static_cast<Index>(i)));
-        std::fprintf(out, ",%.17g\n", sys.energy(w.time, w.field(kGQ), w.field(kGV)));
+        std::fprintf(out, ",%.17g\n", e);
     };
     int status = 0;
     try {
         row();
+        // step k is dt long (the last one shortened to end at t_end) and ends at exactly k·dt:
+        // the time is set, not accumulated
+        const long total = steps + (short_step ? 1 : 0);
+        auto target_of = [&](long k) { return k <= steps ? static_cast<double>(k) * dt : t_end; };
+        auto advance = [&](auto&& step_to, long k, double target) {
+            step_to(target, k <= steps ? dt : last);
+            w.time = target;
+            if (k % every == 0 || k == total) row();
+        };
         if (integrator == "dopri") {
             DormandPrince45 dp(sys, {});
             double h = dt;
-            for (long k = 1; k <= steps; ++k) {
-                const double target = static_cast<double>(k) * dt;
+            auto step_to = [&](double target, double) {
                 while (w.time < target - 1e-12 * dt)
                     h = dp.step(w, std::min(dp.next_dt() > 0 ? dp.next_dt() : h, target - w.time), target);
-                w.time = target;
-                if (k % every == 0) row();
-            }
+            };
+            for (long k = 1; k <= total; ++k) advance(step_to, k, target_of(k));
         } else {
             Stepper stepper(integrator == "rk4" ? lagrangian_rk4(sys, w.layout_ptr()) : lagrangian_midpoint(sys, w.layout_ptr()));
-            for (long k = 1; k <= steps; ++k) {
-                stepper.step(w, dt);
-                if (k % every == 0) row();
+            for (long k = 1; k <= total; ++k) {
+                const double target = target_of(k);
+                advance([&](double, double h) { stepper.step(w, h); }, k, target);
             }
         }
     } catch (const std::exception& e) {
@@ -107,6 +213,14 @@ int model_main(int argc, char** argv, const ModelCommandLine& model) {
         status = 1;
     }
     if (out != stdout) std::fclose(out);
+    if (status == 0 && energy_tolerance) {
+        const double limit = *energy_tolerance * std::max(1.0, std::fabs(e0));
+        if (drift > limit) {
+            std::fprintf(stderr, "%s: the energy drifted by %.6g (beyond %.6g = %g * max(1, |E(0)|), E(0) = %.17g)\n", argv[0],
+                         drift, limit, *energy_tolerance, e0);
+            if (fail_on_drift) status = 3;
+        }
+    }
     return status;
 }
 
