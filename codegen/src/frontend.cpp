@@ -41,9 +41,14 @@ public:
     std::optional<Model> run(const grammar::ParsedModel& parsed, std::string_view default_name) {
         model_.name = std::string(default_name);
         model_.dissipation = Expr(0);
+        failed_names_ = parsed.failed_names;
         for (const Statement& st : parsed.statements) boost::apply_visitor([this](const auto& s) { visit(s); }, st);
-        if (!coordinates_seen_) error({0, 1}, "the model has no 'coordinates' statement");
-        if (!lagrangian_seen_) error({0, 1}, "the model has no 'lagrangian' statement");
+        // one mistake, one error: a statement with a syntax error is not also missing
+        auto failed = [&](std::string_view kw) {
+            return std::find(parsed.failed_keywords.begin(), parsed.failed_keywords.end(), kw) != parsed.failed_keywords.end();
+        };
+        if (!coordinates_seen_ && !failed("coordinates")) error({0, 1}, "the model has no 'coordinates' statement");
+        if (!lagrangian_seen_ && !failed("lagrangian")) error({0, 1}, "the model has no 'lagrangian' statement");
         if (sink_.error_count() > 0) return std::nullopt;
         const std::size_t n = model_.dof();
         model_.forces.resize(n, Expr(0));
@@ -63,6 +68,7 @@ private:
     Model model_;
     std::map<std::string, Declared, std::less<>> scope_;
     bool coordinates_seen_ = false, lagrangian_seen_ = false, dissipation_seen_ = false, model_seen_ = false;
+    std::vector<std::string> failed_names_; ///< names declared in statements with syntax errors
     SourceSpan coordinates_at_, lagrangian_at_, dissipation_at_, model_at_;
     std::vector<Expr> forces_, init_q_, init_qd_;
 
@@ -117,6 +123,9 @@ private:
         grammar::ConvertOptions options;
         options.resolve = [this](std::string_view name) -> std::optional<Expr> {
             if (auto it = scope_.find(name); it != scope_.end()) return it->second.value;
+            // declared in a statement that had a syntax error (reported): not unknown as well
+            if (std::find(failed_names_.begin(), failed_names_.end(), name) != failed_names_.end())
+                return cas::symbol(name);
             return std::nullopt;
         };
         const auto coords = model_.coordinate_symbols();

@@ -19,6 +19,8 @@ struct dissipation_stmt_class : annotate_position {};
 struct force_stmt_class : annotate_position {};
 struct initial_stmt_class : annotate_position {};
 struct statement_class : error_handler {}; // the entry rule
+struct bindings_class {};
+struct names_class {};
 
 inline const x3::rule<binding_class, ast::Binding> binding = "binding";
 inline const x3::rule<model_stmt_class, ast::ModelStmt> model_stmt = "model statement";
@@ -30,20 +32,24 @@ inline const x3::rule<dissipation_stmt_class, ast::DissipationStmt> dissipation_
 inline const x3::rule<force_stmt_class, ast::ForceStmt> force_stmt = "force statement";
 inline const x3::rule<initial_stmt_class, ast::InitialStmt> initial_stmt = "initial statement";
 inline const x3::rule<statement_class, ast::Statement> statement = "statement";
+inline const x3::rule<bindings_class, std::vector<ast::Binding>> bindings = "binding";
+inline const x3::rule<names_class, std::vector<ast::Name>> names = "name";
 
-inline const auto binding_def = (name >> *x3::char_('\'') >> '=') > expression;
+inline const auto binding_def = name >> *x3::char_('\'') > '=' > expression;
+inline const auto bindings_def = binding % ',';
+inline const auto names_def = name % ',';
 inline const auto model_stmt_def = kw("model") > name;
-inline const auto coordinates_stmt_def = kw("coordinates") > (name % ',');
-inline const auto parameters_stmt_def = kw("parameters") > (binding % ',');
+inline const auto coordinates_stmt_def = kw("coordinates") > names;
+inline const auto parameters_stmt_def = kw("parameters") > bindings;
 inline const auto let_stmt_def = kw("let") > name > '=' > expression;
 inline const auto lagrangian_stmt_def = kw("lagrangian") > expression;
 inline const auto dissipation_stmt_def = kw("dissipation") > expression;
 inline const auto force_stmt_def = kw("force") > name > '=' > expression;
-inline const auto initial_stmt_def = kw("initial") > (binding % ',');
+inline const auto initial_stmt_def = kw("initial") > bindings;
 inline const auto statement_def = model_stmt | coordinates_stmt | parameters_stmt | let_stmt | lagrangian_stmt |
                                   dissipation_stmt | force_stmt | initial_stmt;
 
-BOOST_SPIRIT_DEFINE(binding, model_stmt, coordinates_stmt, parameters_stmt, let_stmt, lagrangian_stmt, dissipation_stmt,
+BOOST_SPIRIT_DEFINE(binding, bindings, names, model_stmt, coordinates_stmt, parameters_stmt, let_stmt, lagrangian_stmt, dissipation_stmt,
                     force_stmt, initial_stmt, statement)
 
 } // namespace phynjo::grammar::parser

@@ -28,8 +28,8 @@ Token token_at(std::string_view text, std::size_t i, std::size_t end);
 /// Reports at `at` that `which` (X3's name of the rule or literal expected there) was
 /// expected: "expected an expression, found 'x'"; an invalid character is reported as
 /// unexpected. `end_name` names the end of the text in messages ("end of line"); empty:
-/// just "expected …" there.
+/// just "expected …" there. `hint` is appended to the message.
 void report_expected(std::string_view text, std::size_t at, std::size_t end, std::string_view which,
-                     std::string_view end_name, DiagnosticSink& sink);
+                     std::string_view end_name, DiagnosticSink& sink, std::string_view hint = {});
 
 } // namespace phynjo::grammar::lexical

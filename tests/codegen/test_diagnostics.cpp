@@ -93,16 +93,16 @@ TEST_CASE("lag diagnostics: forces, initial values, singular mass matrices", "[c
 }
 
 TEST_CASE("lag diagnostics: syntax, file-level problems, several errors per run", "[codegen][diagnostics]") {
+    // one mistake, one error: a lagrangian statement with a syntax error is not also missing
     CHECK(diagnose("coordinates q\nlagrangian (q'^2\n") ==
-          "m.lag:2:12: error: '(' is never closed\n    lagrangian (q'^2\n               ^\n"
-          "m.lag:1:1: error: the model has no 'lagrangian' statement\n    coordinates q\n    ^\n");
+          "m.lag:2:12: error: '(' is never closed\n    lagrangian (q'^2\n               ^\n");
     CHECK(diagnose("coordinates q\nlagrangian q'^2)\n") ==
-          "m.lag:2:16: error: unmatched ')'\n    lagrangian q'^2)\n                   ^\n"
-          "m.lag:1:1: error: the model has no 'lagrangian' statement\n    coordinates q\n    ^\n");
+          "m.lag:2:16: error: unmatched ')'\n    lagrangian q'^2)\n                   ^\n");
     CHECK(diagnose("coordinates q\nlagrangain q'^2\n") ==
           "m.lag:2:1: error: expected a statement (model, coordinates, parameters, let, lagrangian, dissipation, force or "
-          "initial), found 'lagrangain'\n    lagrangain q'^2\n    ^~~~~~~~~~\n"
-          "m.lag:1:1: error: the model has no 'lagrangian' statement\n    coordinates q\n    ^\n");
+          "initial), found 'lagrangain' (did you mean 'lagrangian'?)\n    lagrangain q'^2\n    ^~~~~~~~~~\n");
+    CHECK(diagnose("coordinates q\nlagrangian 1/2*q'^2 +\n") ==
+          "m.lag:2:22: error: expected an expression, found end of line\n    lagrangian 1/2*q'^2 +\n                         ^\n");
     CHECK(diagnose(std::string("coordinates q\nlagrangian q'^2 \xff\n")) ==
           "m.lag:2:17: error: not UTF-8 text: invalid byte 0xFF\n    lagrangian q'^2 \xff\n                    ^\n");
     CHECK(diagnose(std::string(17u << 20, ' ')).rfind("m.lag:1:1: error: file too large (17825792 bytes; the limit is 16777216)", 0) == 0);
@@ -113,4 +113,38 @@ TEST_CASE("lag diagnostics: syntax, file-level problems, several errors per run"
     CHECK(three.find("m.lag:2:16: error: the value of parameter 'k' is not constant") != std::string::npos);
     CHECK(three.find("m.lag:3:9: error: unknown name 'b'") != std::string::npos);
     CHECK(three.find("m.lag:4:19: error: unknown name 'c'") != std::string::npos);
+}
+
+// The newcomer's diagnostics (issue: never a C++ type name, one mistake one error, a
+// non-ASCII character named by itself, the hint for a statement broken over two lines).
+TEST_CASE("lag diagnostics: what a first-time user writes", "[codegen][diagnostics]") {
+    // a parameter without a value: no Spirit type name, and 'm' is not also "unknown"
+    CHECK(diagnose("coordinates x\nparameters m, k = 2\nlagrangian 1/2*m*x'^2\n") ==
+          "m.lag:2:13: error: expected '=' and a value after parameter 'm', found ','\n    parameters m, k = 2\n"
+          "                ^\n");
+    CHECK(diagnose("coordinates x\nparameters k = 2, m\nlagrangian 1/2*m*x'^2\n") ==
+          "m.lag:2:20: error: expected '=' and a value after parameter 'm'\n    parameters k = 2, m\n"
+          "                       ^\n");
+    CHECK(diagnose("coordinates x\nlagrangian 1/2*x'^2\ninitial x 1\n") ==
+          "m.lag:3:11: error: expected '=' and a value after initial value of 'x', found '1'\n    initial x 1\n"
+          "              ^\n");
+    // a statement continued on the next line without parentheses: one error, with the remedy
+    CHECK(diagnose("coordinates x\nlagrangian 1/2*x'^2 -\n    1/2*x^2\n") ==
+          "m.lag:2:22: error: expected an expression, found end of line (a statement goes on to the next line only "
+          "inside parentheses: wrap it in ( ) )\n    lagrangian 1/2*x'^2 -\n                         ^\n");
+    // a Greek letter names itself and says what names are
+    CHECK(diagnose("coordinates θ\nlagrangian 1/2*θ'^2\n") ==
+          "m.lag:1:13: error: unexpected character 'θ' (U+03B8): names are ASCII letters, digits and _\n"
+          "    coordinates θ\n                ^\n"
+          "m.lag:2:16: error: unexpected character 'θ' (U+03B8): names are ASCII letters, digits and _\n"
+          "    lagrangian 1/2*θ'^2\n                   ^\n");
+    // no message ever carries a C++ type name
+    for (const char* text : {"coordinates\nlagrangian 1\n", "parameters\ncoordinates q\nlagrangian q'^2\n",
+                             "coordinates q\ninitial\nlagrangian q'^2\n", "coordinates q,\nlagrangian q'^2\n",
+                             "coordinates q\nparameters a = 1,\nlagrangian q'^2\n", "model\ncoordinates q\nlagrangian q'^2\n"}) {
+        const std::string d = diagnose(text);
+        INFO(text << " -> " << d);
+        CHECK(d.find("boost") == std::string::npos);
+        CHECK(d.find("error:") != std::string::npos);
+    }
 }

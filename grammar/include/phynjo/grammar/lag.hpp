@@ -25,6 +25,12 @@ struct ParsedModel {
     /// False when the file as a whole was rejected (too large, not UTF-8): nothing more to
     /// say about its contents.
     bool readable = true;
+    /// The first word of every statement that had a syntax error (reported already): a later
+    /// stage does not report such a statement as missing.
+    std::vector<std::string> failed_keywords;
+    /// The names a failed coordinates, parameters or let statement declares: a later stage
+    /// does not report them as unknown.
+    std::vector<std::string> failed_names;
 };
 
 /// Parses `text` (the whole file). `positions` must be constructed on the same text.
