@@ -98,7 +98,10 @@ private:
         return s;
     }
 
-    static std::string latex_name(std::string_view name) {
+    /// A name as LaTeX: its base (Greek letter names, and th and ph, as Greek letters; one
+    /// letter as is; longer names upright) and its subscript (trailing digits, or what follows
+    /// a '_'): th1 → \theta, 1; q_2 → q, 2; omega → \omega.
+    static std::pair<std::string, std::string> latex_parts(std::string_view name) {
         static constexpr std::array<std::string_view, 35> greek = {
             "alpha", "beta", "gamma", "delta", "epsilon", "zeta", "eta", "theta", "iota", "kappa", "lambda",
             "mu", "nu", "xi", "rho", "sigma", "tau", "upsilon", "phi", "chi", "psi", "omega", "Gamma",
@@ -106,16 +109,22 @@ private:
         std::size_t cut = name.size();
         while (cut > 1 && (std::isdigit(static_cast<unsigned char>(name[cut - 1])))) --cut;
         std::string_view base = name.substr(0, cut), sub = name.substr(cut);
+        if (!sub.empty() && base.size() > 1 && base.back() == '_') base.remove_suffix(1); // q_2
         if (auto u = base.find('_'); u != std::string_view::npos && u > 0 && sub.empty()) {
             sub = base.substr(u + 1);
             base = base.substr(0, u);
         }
+        if (base == "th") base = "theta";
+        else if (base == "ph") base = "phi";
         std::string b;
         if (std::find(greek.begin(), greek.end(), base) != greek.end()) b = "\\" + std::string(base);
         else if (base.size() == 1) b = std::string(base);
         else b = "\\mathrm{" + escape(base) + "}";
-        if (!sub.empty()) b += "_{" + escape(sub) + "}";
-        return b;
+        return {b, sub.empty() ? std::string() : "_{" + escape(sub) + "}"};
+    }
+    static std::string latex_name(std::string_view name) {
+        const auto [b, sub] = latex_parts(name);
+        return b + sub;
     }
     static std::string escape(std::string_view s) {
         std::string r;
@@ -126,13 +135,13 @@ private:
         return r;
     }
     static std::string latex_variable(Expr x) {
-        std::string n = latex_name(symbol_name(x));
+        const auto [n, sub] = latex_parts(symbol_name(x)); // the dot goes on the letter: \dot{\theta}_{1}
         switch (derivative_order(x)) {
-        case 0: return n;
-        case 1: return "\\dot{" + n + "}";
-        case 2: return "\\ddot{" + n + "}";
-        case 3: return "\\dddot{" + n + "}";
-        default: return n + "^{(" + std::to_string(derivative_order(x)) + ")}";
+        case 0: return n + sub;
+        case 1: return "\\dot{" + n + "}" + sub;
+        case 2: return "\\ddot{" + n + "}" + sub;
+        case 3: return "\\dddot{" + n + "}" + sub;
+        default: return n + sub + "^{(" + std::to_string(derivative_order(x)) + ")}";
         }
     }
 

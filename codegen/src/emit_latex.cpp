@@ -12,7 +12,8 @@ std::string emit_latex(const Model& m, const EquationsOfMotion& eom) {
                     "\\allowdisplaybreaks\n\\begin{document}\n\\section*{" +
                     m.name + "}\n";
     s += "\\subsection*{Lagrangian}\n\\[ L = " + cas::to_latex(m.lagrangian) + " \\]\n";
-    if (!m.dissipation.is_zero()) s += "\\[ R = " + cas::to_latex(m.dissipation) + " \\]\n";
+    // \mathcal{R}: the Rayleigh function never reads like a parameter named R
+    if (!m.dissipation.is_zero()) s += "\\[ \\mathcal{R} = " + cas::to_latex(m.dissipation) + " \\]\n";
     s += "\\subsection*{Equations of motion $M(q,t)\\,\\ddot q = f(q,\\dot q,t)$}\n";
     for (std::size_t i = 0; i < n; ++i)
         for (std::size_t j = i; j < n; ++j)

@@ -44,7 +44,13 @@ TEST_CASE("C++ printing", "[cas][print]") {
 
 TEST_CASE("LaTeX printing", "[cas][print]") {
     CHECK(to_latex(parse("1/2*m*l^2*theta'^2")) == "\\frac{l^{2} m \\dot{\\theta}^{2}}{2}");
-    CHECK(to_latex(parse("sin(th1)^2")) == "\\sin^{2}{\\left(\\mathrm{th}_{1} \\right)}");
+    CHECK(to_latex(parse("sin(th1)^2")) == "\\sin^{2}{\\left(\\theta_{1} \\right)}");
+    // Greek names (and th, ph) as letters, digits and what follows '_' as subscripts, the dot
+    // on the letter (catches \mathrm{th}, q\_ and dots over subscripts)
+    CHECK(to_latex(parse("th2'")) == "\\dot{\\theta}_{2}");
+    CHECK(to_latex(parse("ph'' + omega3")) == "\\omega_{3} + \\ddot{\\phi}");
+    CHECK(to_latex(parse("q_2'")) == "\\dot{q}_{2}");
+    CHECK(to_latex(parse("Omega")) == "\\Omega");
     CHECK(to_latex(parse("x''")) == "\\ddot{x}");
     CHECK(to_latex(parse("sqrt(x) - exp(y)")) == "\\sqrt{x} - e^{y}");
     CHECK(to_latex(parse("m_cart*pi")) == "\\pi m_{cart}");

@@ -25,6 +25,8 @@ cmp -s "$work/dp.cpp" "$work/first.cpp" && cmp -s "$work/dp.hpp" "$work/first.hp
 "$lagc" >/dev/null 2>&1; [ $? -eq 2 ] && ok "no arguments: exit 2" || bad "no arguments: exit 2"
 "$lagc" "$models/pendulum.lag" --bogus >/dev/null 2>&1; [ $? -eq 2 ] && ok "unknown option: exit 2" || bad "unknown option"
 "$lagc" "$models/pendulum.lag" >/dev/null 2>&1; [ $? -eq 2 ] && ok "no -o for C++: exit 2" || bad "no -o for C++"
+"$lagc" "$models/pendulum.lag" --emit=eom --main >/dev/null 2>&1; [ $? -eq 2 ] && ok "--emit=eom --main: exit 2" || bad "--emit=eom --main"
+"$lagc" "$models/pendulum.lag" --emit=latex --main -o "$work/x.tex" >/dev/null 2>&1; [ $? -eq 2 ] && ok "--emit=latex --main: exit 2" || bad "--emit=latex --main"
 "$lagc" "$work/nonexistent.lag" -o "$work/x.cpp" >/dev/null 2>&1; [ $? -eq 1 ] && ok "unreadable model: exit 1" || bad "unreadable model"
 printf 'coordinates q\nlagrangian 1/2*m*q'"'"'^2\n' > "$work/bad.lag"
 err=$("$lagc" "$work/bad.lag" -o "$work/bad.cpp" 2>&1 >/dev/null); rc=$?

@@ -104,6 +104,7 @@ int main(int argc, char** argv) {
     }
     if (input.empty()) return usage_error("missing model file");
     if (emit == "cpp" && output.empty()) return usage_error("-o OUT.cpp is needed to write C++");
+    if (with_main && emit != "cpp") return usage_error("--main adds a main() to generated C++: it does not go with --emit=" + emit);
 
     std::ifstream in(input, std::ios::binary);
     if (!in) {
