@@ -1,5 +1,5 @@
 #pragma once
-// The n-link pendulum on a cart (../shared/models/nlink_cart.py; SymPy's
+// The n-link pendulum on a cart (examples/models/nlink_cart.py; SymPy's
 // n_link_pendulum_on_cart), built directly with the CAS: cart position q0, link angles q1..qN
 // from the upward vertical, point masses m0..mN, link lengths l1..lN, gravity g along -y.
 #include "phynjo/cas/cas.hpp"

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """SymPy reference for bench_cas_diff: differentiate the n-link pendulum-on-cart Lagrangian
-(the system of ../shared/models/nlink_cart.py and sympy.physics.mechanics.models.
+(the system of examples/models/nlink_cart.py and sympy.physics.mechanics.models.
 n_link_pendulum_on_cart) -- for every coordinate q_i: dL/dq_i', dL/dq_i and d/dt(dL/dq_i').
 
 Two ways, both timed, the faster is the reference:
