@@ -112,6 +112,9 @@ std::optional<EquationsOfMotion> derive_impl(const Model& model, grammar::Diagno
             const Expr m = tidy(cas::diff(raw_p[i], qd[j]));
             eom.mass_matrix[i * n + j] = eom.mass_matrix[j * n + i] = m;
         }
+    for (const Expr& m : eom.mass_matrix)
+        for (const Expr& v : qd)
+            if (cas::contains(m, v)) eom.mass_depends_on_velocities = true;
     if (auto bad = identically_singular(model, eom.mass_matrix)) {
         const Coordinate& c = model.coordinates[*bad];
         const bool absent = !cas::contains(L, qd[*bad]);

@@ -77,7 +77,7 @@ std::string body(const Names& names, const std::vector<Expr>& outputs, std::vect
 std::string unused(bool uses_t, bool uses_params, bool has_t = true);
 
 /// The generated header: parameters, every declaration of generated-api.md.
-std::string emit_header(const Model& m);
+std::string emit_header(const Model& m, bool mass_depends_on_velocities);
 /// The model's functions (mass_matrix, forcing, momenta, generalized_forces, accelerations,
 /// energy, initial_state), from `eom` in Horner form.
 std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const Names& names);
@@ -85,7 +85,7 @@ std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const N
 /// definition at the current values of the parameters it is defined from.
 std::string emit_derived_parameters(const Model& m);
 /// The runtime glue: system(), make_world(), workflow().
-std::string emit_glue(const Model& m);
+std::string emit_glue(const Model& m, bool mass_depends_on_velocities);
 /// main(): the runtime's command-line driver with the model's parameters.
 std::string emit_main(const Model& m);
 

@@ -31,8 +31,13 @@ std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const N
     // mass_matrix
     {
         const std::string b = body(names, upper, res, uses_t, uses_p);
-        s << "void mass_matrix(const Parameters& P, double t, std::span<const double> q, std::span<double> M) {\n"
-          << sizes("mass_matrix", {{"q", n}, {"M", n * n}}) << unused(uses_t, uses_p) << b;
+        if (eom.mass_depends_on_velocities)
+            s << "void mass_matrix(const Parameters& P, double t, std::span<const double> q, std::span<const double> qdot,\n"
+              << "                 std::span<double> M) {\n"
+              << sizes("mass_matrix", {{"q", n}, {"qdot", n}, {"M", n * n}}) << unused(uses_t, uses_p) << b;
+        else
+            s << "void mass_matrix(const Parameters& P, double t, std::span<const double> q, std::span<double> M) {\n"
+              << sizes("mass_matrix", {{"q", n}, {"M", n * n}}) << unused(uses_t, uses_p) << b;
         for (std::size_t k = 0; k < upper.size(); ++k) {
             const auto [i, j] = upper_ij[k];
             s << "    M[" << i * n + j << "] = " << res[k] << ";\n";

@@ -6,7 +6,7 @@
 
 namespace phynjo::codegen::detail {
 
-std::string emit_glue(const Model& m) {
+std::string emit_glue(const Model& m, bool mass_depends_on_velocities) {
     std::ostringstream s;
     s << "phynjo::runtime::LagrangianSystem system(const Parameters& P) {\n"
       << "    phynjo::runtime::LagrangianSystem s;\n"
@@ -14,7 +14,10 @@ std::string emit_glue(const Model& m) {
       << "    for (auto n : coordinate_names) s.coordinate_names.emplace_back(n);\n"
       << "    s.accelerations = [P](double t, std::span<const double> q, std::span<const double> v, std::span<double> a) {\n"
       << "        accelerations(P, t, q, v, a);\n    };\n"
-      << "    s.mass_matrix = [P](double t, std::span<const double> q, std::span<double> M) { mass_matrix(P, t, q, M); };\n"
+      << "    s.mass_matrix = [P](double t, std::span<const double> q, std::span<const double> v, std::span<double> M) {\n"
+      << (mass_depends_on_velocities ? "        mass_matrix(P, t, q, v, M);\n" : "        (void)v;\n        mass_matrix(P, t, q, M);\n")
+      << "    };\n"
+      << "    s.mass_depends_on_velocities = " << (mass_depends_on_velocities ? "true" : "false") << ";\n"
       << "    s.momenta = [P](double t, std::span<const double> q, std::span<const double> v, std::span<double> p) {\n"
       << "        momenta(P, t, q, v, p);\n    };\n"
       << "    s.generalized_forces = [P](double t, std::span<const double> q, std::span<const double> v,\n"

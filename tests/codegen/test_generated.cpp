@@ -5,6 +5,8 @@
 #include "double_pendulum.hpp"
 #include "nlink_cart_5.hpp"
 #include "pendulum.hpp"
+#include "quartic.hpp"
+#include "relativistic.hpp"
 #include "physical_pendulum.hpp"
 #include "spring_pendulum.hpp"
 
@@ -246,4 +248,46 @@ TEST_CASE("a parameter defined from others follows them unless it is set", "[cod
     // and the energy uses the same I
     CHECK(physical_pendulum::energy(P, 0, q, std::vector<double>{1.0}) ==
           Approx(0.5 * (0.5 + 1 * 0.09) - 1 * 9.81 * 0.3 * std::cos(0.4)).epsilon(1e-14));
+}
+
+// Catches: a Lagrangian that is not quadratic in the velocities refused or miscompiled (M
+// then depends on q': mass_matrix takes q', and the midpoint's Newton refactors M).
+TEST_CASE("a relativistic particle: M depends on the velocity, and every integrator follows p = F t", "[codegen][generated]") {
+    relativistic::Parameters P; // m = 1, c = 1, F = 0.5
+    STATIC_REQUIRE(std::is_invocable_v<decltype(&relativistic::mass_matrix), const relativistic::Parameters&, double,
+                                       std::span<const double>, std::span<const double>, std::span<double>>);
+    std::vector<double> q{0}, v{0.6}, M(1);
+    relativistic::mass_matrix(P, 0, q, v, M);
+    CHECK(M[0] == Approx(1 / std::pow(1 - 0.36, 1.5)).epsilon(1e-14)); // m γ³
+    auto exact_x = [&](double t) { const double u = P.F * t / (P.m * P.c); return P.m * P.c * P.c / P.F * (std::sqrt(1 + u * u) - 1); };
+    auto exact_v = [&](double t) { const double u = P.F * t / (P.m * P.c); return P.c * u / std::sqrt(1 + u * u); };
+    for (const char* integrator : {"rk4", "midpoint"}) {
+        World w = relativistic::make_world(P);
+        Stepper s(relativistic::workflow(P, w, integrator));
+        s.run(w, 1e-3, 4000); // to t = 4: v = 0.894 c
+        INFO(integrator << ": x = " << w.at(kGQ, 0) << " (exact " << exact_x(4) << "), v = " << w.at(kGV, 0));
+        const double tol = std::string(integrator) == "rk4" ? 1e-10 : 1e-6; // order 4 and order 2 at dt = 1 ms
+        CHECK(std::abs(w.at(kGQ, 0) - exact_x(4)) < tol);
+        CHECK(std::abs(w.at(kGV, 0) - exact_v(4)) < tol);
+    }
+}
+
+TEST_CASE("a velocity-quartic Lagrangian: energy conserved, the midpoint rule symmetric", "[codegen][generated]") {
+    quartic::Parameters P;
+    World w = quartic::make_world(P);
+    const auto sys = quartic::system(P);
+    CHECK(sys.mass_depends_on_velocities);
+    const double e0 = sys.energy(0, w.field(kGQ), w.field(kGV));
+    World a = w;
+    Stepper rk(quartic::workflow(P, a, "rk4"));
+    rk.run(a, 1e-3, 10000);
+    CHECK(sys.energy(a.time, a.field(kGQ), a.field(kGV)) == Approx(e0).epsilon(1e-10));
+    World b = w;
+    Stepper mid(quartic::workflow(P, b, "midpoint"));
+    mid.step(b, 0.05);
+    mid.step(b, -0.05);
+    for (Index i = 0; i < 2; ++i) {
+        CHECK(std::abs(b.at(kGQ, i) - w.at(kGQ, i)) < 1e-13);
+        CHECK(std::abs(b.at(kGV, i) - w.at(kGV, i)) < 1e-13);
+    }
 }

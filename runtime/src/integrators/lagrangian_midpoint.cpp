@@ -12,30 +12,34 @@ namespace phynjo::runtime {
 
 namespace {
 
-/// Velocities v with p(t, q, v) = p: Newton with the mass matrix M = ∂p/∂v as Jacobian,
-/// factorized once per call (exact after one iteration when L is quadratic in the
-/// velocities; a few iterations otherwise). `M` and `r` are scratch of sizes n² and n.
+/// Velocities v with p(t, q, v) = p, from the guess in v: Newton with the mass matrix
+/// M = ∂p/∂v as Jacobian, factorized once per call when M does not depend on v (exact after
+/// one iteration when L is quadratic in the velocities), at every iteration when it does.
+/// `M` and `r` are scratch of sizes n² and n.
 void velocities_from_momenta(const LagrangianSystem& s, double t, std::span<const double> q, std::span<const double> p,
                              std::span<double> v, std::vector<double>& M, std::vector<double>& r,
                              std::vector<std::size_t>& perm) {
     const std::size_t n = s.dof;
-    s.mass_matrix(t, q, M);
-    // LU with partial pivoting of M (small, symmetric positive definite in mechanics)
     perm.resize(n);
-    for (std::size_t c = 0; c < n; ++c) {
-        std::size_t piv = c;
-        for (std::size_t k = c + 1; k < n; ++k)
-            if (std::fabs(M[k * n + c]) > std::fabs(M[piv * n + c])) piv = k;
-        if (!(std::fabs(M[piv * n + c]) > 0)) throw SingularMassMatrix("mass matrix is singular");
-        perm[c] = piv;
-        if (piv != c)
-            for (std::size_t k = 0; k < n; ++k) std::swap(M[c * n + k], M[piv * n + k]);
-        for (std::size_t k = c + 1; k < n; ++k) {
-            M[k * n + c] /= M[c * n + c];
-            for (std::size_t j = c + 1; j < n; ++j) M[k * n + j] -= M[k * n + c] * M[c * n + j];
+    auto factor = [&] { // LU with partial pivoting of M at (t, q, v)
+        s.mass_matrix(t, q, v, M);
+        for (std::size_t c = 0; c < n; ++c) {
+            std::size_t piv = c;
+            for (std::size_t k = c + 1; k < n; ++k)
+                if (std::fabs(M[k * n + c]) > std::fabs(M[piv * n + c])) piv = k;
+            if (!(std::fabs(M[piv * n + c]) > 0)) throw SingularMassMatrix("mass matrix is singular");
+            perm[c] = piv;
+            if (piv != c)
+                for (std::size_t k = 0; k < n; ++k) std::swap(M[c * n + k], M[piv * n + k]);
+            for (std::size_t k = c + 1; k < n; ++k) {
+                M[k * n + c] /= M[c * n + c];
+                for (std::size_t j = c + 1; j < n; ++j) M[k * n + j] -= M[k * n + c] * M[c * n + j];
+            }
         }
-    }
-    for (int it = 0; it < 30; ++it) {
+    };
+    factor();
+    for (int it = 0; it < 50; ++it) {
+        if (it > 0 && s.mass_depends_on_velocities) factor();
         s.momenta(t, q, v, r);
         for (std::size_t i = 0; i < n; ++i) r[i] = p[i] - r[i];
         for (std::size_t c = 0; c < n; ++c) {

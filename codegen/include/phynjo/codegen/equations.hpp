@@ -16,6 +16,9 @@ namespace phynjo::codegen {
 struct EquationsOfMotion {
     std::size_t dof = 0;
     std::vector<cas::Expr> mass_matrix; ///< row-major dof×dof, symmetric
+    /// True when M depends on the velocities (L not quadratic in them: a relativistic
+    /// particle): the generated mass_matrix then takes q' too (contract v2).
+    bool mass_depends_on_velocities = false;
     std::vector<cas::Expr> forcing;     ///< f
     std::vector<cas::Expr> momenta;     ///< p
     cas::Expr energy;                   ///< E

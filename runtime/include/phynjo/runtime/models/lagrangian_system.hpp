@@ -118,7 +118,10 @@ struct LagrangianSystem {
     /// q'' from M q'' = f.
     std::function<void(double t, std::span<const double> q, std::span<const double> qdot, std::span<double> qddot)>
         accelerations;
-    std::function<void(double t, std::span<const double> q, std::span<double> M)> mass_matrix;
+    /// M = ∂²L/∂q'∂q' at (t, q, q') (models whose M does not depend on q' ignore it).
+    std::function<void(double t, std::span<const double> q, std::span<const double> qdot, std::span<double> M)> mass_matrix;
+    /// True when M depends on q' (L not quadratic in the velocities).
+    bool mass_depends_on_velocities = false;
     /// p = ∂L/∂q'.
     std::function<void(double t, std::span<const double> q, std::span<const double> qdot, std::span<double> p)> momenta;
     /// ∂L/∂q + Q − ∂R/∂q': p' in canonical form.
