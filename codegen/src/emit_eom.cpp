@@ -5,6 +5,19 @@
 
 namespace phynjo::codegen {
 
+namespace detail {
+/// For the reader (--emit=eom, --emit=latex): the expanded and simplified form (sin² + cos² =
+/// 1 applied to the expansion) when it is no longer than the derived one, as the derivation
+/// keeps large expressions in their factored form for the code generator. Expansion is
+/// tried on expressions of up to 2,000 nodes (as trees) only: beyond that it costs more
+/// than it can gain.
+cas::Expr readable(cas::Expr e) {
+    if (cas::tree_size(e) > 2000) return e;
+    const cas::Expr s = cas::simplify(e);
+    return cas::tree_size(s) <= cas::tree_size(e) ? s : e;
+}
+} // namespace detail
+
 std::string emit_eom(const Model& m, const EquationsOfMotion& eom) {
     const std::size_t n = m.dof();
     std::string s = "# " + m.name + ": M*q'' = f with q = (";
@@ -12,8 +25,8 @@ std::string emit_eom(const Model& m, const EquationsOfMotion& eom) {
     s += ")\n";
     for (std::size_t i = 0; i < n; ++i)
         for (std::size_t j = 0; j < n; ++j)
-            s += "M(" + std::to_string(i + 1) + "," + std::to_string(j + 1) + ") = " + cas::to_string(eom.mass_matrix[i * n + j]) + "\n";
-    for (std::size_t i = 0; i < n; ++i) s += "f(" + std::to_string(i + 1) + ") = " + cas::to_string(eom.forcing[i]) + "\n";
+            s += "M(" + std::to_string(i + 1) + "," + std::to_string(j + 1) + ") = " + cas::to_string(detail::readable(eom.mass_matrix[i * n + j])) + "\n";
+    for (std::size_t i = 0; i < n; ++i) s += "f(" + std::to_string(i + 1) + ") = " + cas::to_string(detail::readable(eom.forcing[i])) + "\n";
     return s;
 }
 
