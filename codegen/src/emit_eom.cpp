@@ -13,8 +13,12 @@ namespace detail {
 /// than it can gain.
 cas::Expr readable(cas::Expr e) {
     if (cas::tree_size(e) > 2000) return e;
-    const cas::Expr s = cas::simplify(e);
-    return cas::tree_size(s) <= cas::tree_size(e) ? s : e;
+    try {
+        const cas::Expr s = cas::simplify(e);
+        return cas::tree_size(s) <= cas::tree_size(e) ? s : e;
+    } catch (const cas::Error&) { // a budget (LimitError) or a domain error: the derived form it is
+        return e;
+    }
 }
 } // namespace detail
 
