@@ -6,10 +6,7 @@
 #   usage: test_model_main.sh BUILD_EXAMPLES_DIR PHYSICAL_PENDULUM_SIM
 set -u
 bin=$1; phys=$2
-work=$(mktemp -d); trap 'rm -rf "$work"' EXIT
-pass=0; fail=0
-ok() { echo "ok   $1"; pass=$((pass+1)); }
-bad() { echo "FAIL $1"; fail=$((fail+1)); }
+. "$(dirname "$0")/check.sh"
 pend="$bin/pendulum_sim"; dp="$bin/double_pendulum_sim"
 
 "$pend" --help | grep -q "usage: .*--integrator rk4|dopri|midpoint" && ok "--help" || bad "--help"
@@ -82,5 +79,4 @@ cmp -s "$work/follow.csv" "$work/set_same.csv" && ! cmp -s "$work/follow.csv" "$
 "$dp" --param m1=0 --param m2=0 --t-end 1 >/dev/null 2>"$work/err"; rc=$?
 [ $rc -eq 1 ] && grep -q "simulation stopped at t = 0: .*singular" "$work/err" && ok "singular mass matrix: exit 1, message with the time" \
   || bad "singular run rc=$rc [$(cat "$work/err")]"
-echo "$pass passed, $fail failed"
-[ $fail -eq 0 ]
+finish

@@ -3,10 +3,7 @@
 #   usage: test_phynjo_lagc.sh PATH/TO/phynjo-lagc MODELS_DIR
 set -u
 lagc=$1; models=$2
-work=$(mktemp -d); trap 'rm -rf "$work"' EXIT
-pass=0; fail=0
-ok() { echo "ok   $1"; pass=$((pass+1)); }
-bad() { echo "FAIL $1"; fail=$((fail+1)); }
+. "$(dirname "$0")/check.sh"
 
 "$lagc" "$models/double_pendulum.lag" -o "$work/a/../dp.cpp" 2>/dev/null; [ $? -ne 0 ] && ok "missing output directory is an error" || bad "missing output directory"
 "$lagc" "$models/double_pendulum.lag" -o "$work/dp.cpp" && [ -s "$work/dp.cpp" ] && [ -s "$work/dp.hpp" ] \
@@ -43,5 +40,4 @@ err=$("$lagc" "$work/huge.lag" -o "$work/huge.cpp" 2>&1); rc=$?
 [ $rc -eq 1 ] && echo "$err" | grep -q "file too large (110000000 bytes" && ok "a 110 MB file: diagnosed" || bad "huge file [$err]"
 printf '\x89PNG\r\n' > "$work/bin.lag"
 "$lagc" "$work/bin.lag" -o "$work/bin.cpp" 2>&1 | grep -q "not UTF-8 text" && ok "binary file: diagnosed" || bad "binary file"
-echo "$pass passed, $fail failed"
-[ $fail -eq 0 ]
+finish
