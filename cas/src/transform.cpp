@@ -176,9 +176,63 @@ Expr pythagoras(Expr s) {
     return add(all);
 }
 
+/// The angle-difference identities inside one sum, repeated to a fixed point:
+///   c·R·cos(a)·cos(b) + c·R·sin(a)·sin(b) → c·R·cos(a − b),
+///   c·R·sin(a)·cos(b) − c·R·cos(a)·sin(b) → c·R·sin(a − b)
+/// (the double pendulum's M₁₂ = m₂l₁l₂ cos(θ₁ − θ₂)); every factor named has exponent 1.
+Expr angle_difference(Expr s) {
+    if (s.kind() != Kind::Add) return s;
+    std::vector<std::pair<Expr, Expr>> terms; // rest → coefficient
+    for (std::uint32_t i = 0; i < s->nargs; ++i) terms.emplace_back(s.args()[i], s->coefs[i]);
+    const Expr constant = s->number;
+    bool changed = false;
+    for (bool again = true; again;) {
+        again = false;
+        for (std::size_t i = 0; i < terms.size() && !again; ++i) {
+            const Expr t = terms[i].first;
+            if (t.kind() != Kind::Mul) continue;
+            for (Expr f : t.args()) {
+                const bool f_cos = is_fn(f, Function::Cos), f_sin = is_fn(f, Function::Sin);
+                if (!f_cos && !f_sin) continue;
+                for (Expr g : t.args()) {
+                    if (g == f || !is_fn(g, Function::Cos)) continue;
+                    const Expr a = f.args()[0], b = g.args()[0];
+                    // r = t / (f·g); the partner term and the result
+                    const Expr r = mul({t, pow(f, Expr(-1)), pow(g, Expr(-1))});
+                    const Expr partner = f_cos ? mul({r, sin(a), sin(b)}) : mul({r, cos(a), sin(b)});
+                    const Expr want = f_cos ? terms[i].second : mul({Expr(-1), terms[i].second});
+                    auto it = std::find_if(terms.begin(), terms.end(), [&](auto& p) { return p.first == partner; });
+                    if (it == terms.end() || it->second != want || it == terms.begin() + static_cast<std::ptrdiff_t>(i))
+                        continue;
+                    const Expr c = terms[i].second;
+                    const Expr diff = add({a, mul({Expr(-1), b})});
+                    const Expr replacement = mul({c, r, f_cos ? cos(diff) : sin(diff)});
+                    const std::size_t j = static_cast<std::size_t>(it - terms.begin());
+                    terms.erase(terms.begin() + static_cast<std::ptrdiff_t>(std::max(i, j)));
+                    terms.erase(terms.begin() + static_cast<std::ptrdiff_t>(std::min(i, j)));
+                    std::vector<Expr> all{constant, replacement};
+                    for (auto& [rest, coef] : terms) all.push_back(mul({coef, rest}));
+                    const Expr merged = add(all);
+                    terms.clear();
+                    if (merged.kind() != Kind::Add) return merged;
+                    for (std::uint32_t k = 0; k < merged->nargs; ++k) terms.emplace_back(merged.args()[k], merged->coefs[k]);
+                    again = changed = true;
+                    break;
+                }
+                if (again) break;
+            }
+        }
+        if (!again) break;
+    }
+    if (!changed) return s;
+    std::vector<Expr> all{constant};
+    for (auto& [rest, coef] : terms) all.push_back(mul({coef, rest}));
+    return add(all);
+}
+
 Expr trig_simplify(Expr e) {
     std::unordered_map<const Node*, Expr> memo;
-    return map_bottom_up(e, memo, [](Expr x) { return pythagoras(x); });
+    return map_bottom_up(e, memo, [](Expr x) { return angle_difference(pythagoras(x)); });
 }
 
 } // namespace
