@@ -118,6 +118,13 @@ private:
                std::any_of(model_.coordinates.begin(), model_.coordinates.end(), [&](const auto& c) { return c.symbol == e; });
     }
 
+    /// Every parameter declared so far → its exact value.
+    std::unordered_map<Expr, Expr> parameter_values() const {
+        std::unordered_map<Expr, Expr> values;
+        for (const Parameter& p : model_.parameters) values.emplace(p.symbol, p.value);
+        return values;
+    }
+
     /// An expression in the current scope, with the spec's meaning of `'`.
     std::optional<Expr> expression(const grammar::ast::Expression& tree) {
         grammar::ConvertOptions options;
@@ -203,8 +210,7 @@ private:
             if (!v) continue;
             if (!constant(*v, b.value, "the value of parameter '" + b.name.text + "'", true)) continue;
             // exact value: earlier parameters replaced by their values
-            std::unordered_map<Expr, Expr> values;
-            for (const Parameter& p : model_.parameters) values.emplace(p.symbol, p.value);
+            const auto values = parameter_values();
             Expr exact;
             double dflt = 0;
             try {
@@ -287,8 +293,7 @@ private:
             if (!constant(*v, b.value, what, true)) continue;
             // a real number at the parameters' defaults (sqrt(-1) must not start a run at NaN)
             {
-                std::unordered_map<Expr, Expr> values;
-                for (const Parameter& p : model_.parameters) values.emplace(p.symbol, p.value);
+                const auto values = parameter_values();
                 bool real = true;
                 try {
                     real = std::isfinite(cas::evaluate(cas::subs(*v, values), {}));
