@@ -19,10 +19,11 @@ Expr tidy(Expr e) {
     return cas::trig_simplify_only(e);
 }
 
-/// The first coordinate whose column of M is linearly dependent on the earlier ones at
-/// every one of a few random points (random q, q', t and parameter values), or nothing.
-std::optional<std::size_t> identically_singular(const Model& model, const std::vector<Expr>& M) {
-    const std::size_t n = model.dof();
+/// The first column of the rows×cols matrix A (row-major expressions) that is linearly
+/// dependent on the earlier columns at every one of a few random points (random q, q', t and
+/// parameter values), or nothing.
+std::optional<std::size_t> first_dependent_column(const Model& model, const std::vector<Expr>& A_expr, std::size_t rows,
+                                                  std::size_t cols) {
     std::mt19937_64 rng(12345);
     std::uniform_real_distribution<double> coord(-1.3, 1.3), positive(0.5, 2.0);
     std::optional<std::size_t> worst;
@@ -36,38 +37,75 @@ std::optional<std::size_t> identically_singular(const Model& model, const std::v
         at[cas::time_symbol()] = positive(rng);
         std::vector<double> A;
         try {
-            A = cas::evaluate(M, at);
+            A = cas::evaluate(A_expr, at);
         } catch (const cas::Error&) {
             return std::nullopt; // cannot tell here; the runtime check reports it
         }
         double scale = 0;
         for (double v : A) scale = std::max(scale, std::fabs(v));
-        // Gaussian elimination over columns in coordinate order, row pivoting.
-        std::vector<bool> used(n, false);
+        // Gaussian elimination over columns in order, row pivoting.
+        std::vector<bool> used(rows, false);
         std::optional<std::size_t> dependent;
-        for (std::size_t col = 0; col < n && !dependent; ++col) {
-            std::size_t best = n;
+        for (std::size_t col = 0; col < cols && !dependent; ++col) {
+            std::size_t best = rows;
             double best_v = 0;
-            for (std::size_t r = 0; r < n; ++r)
-                if (!used[r] && std::fabs(A[r * n + col]) > best_v) {
-                    best_v = std::fabs(A[r * n + col]);
+            for (std::size_t r = 0; r < rows; ++r)
+                if (!used[r] && std::fabs(A[r * cols + col]) > best_v) {
+                    best_v = std::fabs(A[r * cols + col]);
                     best = r;
                 }
-            if (best == n || best_v <= 1e-10 * std::max(scale, 1e-300)) {
+            if (best == rows || best_v <= 1e-10 * std::max(scale, 1e-300)) {
                 dependent = col;
                 break;
             }
             used[best] = true;
-            for (std::size_t r = 0; r < n; ++r) {
+            for (std::size_t r = 0; r < rows; ++r) {
                 if (used[r]) continue;
-                const double factor = A[r * n + col] / A[best * n + col];
-                for (std::size_t c = col; c < n; ++c) A[r * n + c] -= factor * A[best * n + c];
+                const double factor = A[r * cols + col] / A[best * cols + col];
+                for (std::size_t c = col; c < cols; ++c) A[r * cols + c] -= factor * A[best * cols + c];
             }
         }
         if (!dependent) return std::nullopt; // regular at this point: not identically singular
         worst = dependent;
     }
     return worst;
+}
+
+/// The first coordinate whose column of M is dependent on the earlier ones at every one of a
+/// few random points, or nothing.
+std::optional<std::size_t> identically_singular(const Model& model, const std::vector<Expr>& M) {
+    return first_dependent_column(model, M, model.dof(), model.dof());
+}
+
+/// Fills the constraint part of `eom` (lag-format.md, *Constraints*): G, γ, φ and φ'.
+void derive_constraints(const Model& model, const std::vector<Expr>& q, const std::vector<Expr>& qd,
+                        EquationsOfMotion& eom) {
+    const std::size_t n = model.dof(), m = model.constraints.size();
+    const Expr t = cas::time_symbol();
+    eom.n_constraints = m;
+    eom.constraint_matrix.resize(m * n);
+    for (std::size_t k = 0; k < m; ++k) {
+        const Constraint& c = model.constraints[k];
+        // the expression whose total time derivative is G q'' − γ: φ' (holonomic) or φ
+        Expr level;
+        if (c.holonomic) {
+            std::vector<Expr> terms{cas::diff(c.phi, t)};
+            for (std::size_t j = 0; j < n; ++j) {
+                const Expr g = cas::diff(c.phi, q[j]);
+                eom.constraint_matrix[k * n + j] = tidy(g);
+                terms.push_back(g * qd[j]);
+            }
+            level = cas::add(terms);
+        } else {
+            level = c.phi;
+            for (std::size_t j = 0; j < n; ++j) eom.constraint_matrix[k * n + j] = tidy(cas::diff(c.phi, qd[j]));
+        }
+        std::vector<Expr> rest{cas::diff(level, t)};
+        for (std::size_t j = 0; j < n; ++j) rest.push_back(cas::diff(level, q[j]) * qd[j]);
+        eom.gamma.push_back(tidy(-cas::add(rest)));
+        eom.residuals.push_back(tidy(c.phi));
+        eom.velocity_residuals.push_back(tidy(level));
+    }
 }
 
 } // namespace
@@ -133,12 +171,36 @@ std::optional<EquationsOfMotion> derive_impl(const Model& model, grammar::Diagno
         terms.push_back(-cas::diff(raw_p[i], t));
         eom.forcing[i] = tidy(cas::add(terms));
     }
+    derive_constraints(model, q, qd, eom);
+    if (const std::size_t m = eom.n_constraints; m > 0) {
+        // G identically rank deficient: the first row dependent on earlier ones (columns of Gᵀ)
+        std::vector<Expr> Gt(n * m);
+        for (std::size_t k = 0; k < m; ++k)
+            for (std::size_t j = 0; j < n; ++j) Gt[j * m + k] = eom.constraint_matrix[k * n + j];
+        if (auto bad = first_dependent_column(model, Gt, n, m)) {
+            const Constraint& c = model.constraints[*bad];
+            std::string what;
+            if (*bad == 0)
+                what = "constraint '" + c.name + "' does not restrict the motion: its row of the constraint matrix G is zero";
+            else
+                what = "constraint '" + c.name + "' is redundant for every state: its row of the constraint matrix G is a "
+                       "combination of the rows of the constraints before it (a constraint written twice, or implied by "
+                       "others" + std::string(*bad >= n ? "; there are more constraints than coordinates" : "") + ")";
+            sink.error(c.where.offset, c.where.length, what);
+            for (std::size_t k = 0; k < *bad && k < 8; ++k)
+                sink.note(model.constraints[k].where.offset, model.constraints[k].where.length,
+                          "constraint '" + model.constraints[k].name + "' is here");
+            return std::nullopt;
+        }
+    }
     std::vector<Expr> e_terms;
     for (std::size_t i = 0; i < n; ++i) e_terms.push_back(qd[i] * raw_p[i]);
     e_terms.push_back(-L);
     eom.energy = tidy(cas::add(e_terms));
     std::vector<Expr> all = eom.mass_matrix;
-    for (auto* v : {&eom.forcing, &eom.momenta, &eom.generalized_forces}) all.insert(all.end(), v->begin(), v->end());
+    for (auto* v : {&eom.forcing, &eom.momenta, &eom.generalized_forces, &eom.constraint_matrix, &eom.gamma,
+                    &eom.residuals, &eom.velocity_residuals})
+        all.insert(all.end(), v->begin(), v->end());
     all.push_back(eom.energy);
     if (const std::size_t nodes = cas::dag_size(all); nodes > limits.max_nodes) {
         sink.error(model.lagrangian_where.offset, model.lagrangian_where.length,

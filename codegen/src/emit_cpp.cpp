@@ -17,11 +17,14 @@ EmittedCpp emit_cpp(const Model& m, const EquationsOfMotion& raw, const EmitOpti
     EquationsOfMotion eom = raw;
     {
         std::vector<Expr> all = eom.mass_matrix;
-        for (auto* v : {&eom.forcing, &eom.momenta, &eom.generalized_forces}) all.insert(all.end(), v->begin(), v->end());
+        const auto parts = {&eom.forcing,           &eom.momenta, &eom.generalized_forces, &eom.constraint_matrix,
+                            &eom.gamma,             &eom.residuals, &eom.velocity_residuals};
+        for (auto* v : parts) all.insert(all.end(), v->begin(), v->end());
         all.push_back(eom.energy);
         const auto h = cas::horner(all);
         std::size_t k = 0;
-        for (auto* v : {&eom.mass_matrix, &eom.forcing, &eom.momenta, &eom.generalized_forces})
+        for (Expr& e : eom.mass_matrix) e = h[k++];
+        for (auto* v : parts)
             for (Expr& e : *v) e = h[k++];
         eom.energy = h[k];
     }

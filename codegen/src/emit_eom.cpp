@@ -31,6 +31,20 @@ std::string emit_eom(const Model& m, const EquationsOfMotion& eom) {
         for (std::size_t j = 0; j < n; ++j)
             s += "M(" + std::to_string(i + 1) + "," + std::to_string(j + 1) + ") = " + cas::to_string(detail::readable(eom.mass_matrix[i * n + j])) + "\n";
     for (std::size_t i = 0; i < n; ++i) s += "f(" + std::to_string(i + 1) + ") = " + cas::to_string(detail::readable(eom.forcing[i])) + "\n";
+    if (const std::size_t mc = eom.n_constraints; mc > 0) {
+        s += "# constraints: M*q'' = f + G^T*lambda, G*q'' = gamma, with lambda = (";
+        for (std::size_t k = 0; k < mc; ++k) s += (k ? ", " : "") + std::string("lambda_") + m.constraints[k].name;
+        s += ")\n";
+        for (std::size_t k = 0; k < mc; ++k) {
+            const auto row = std::to_string(k + 1);
+            s += "phi(" + row + ") = " + cas::to_string(detail::readable(eom.residuals[k])) + "  # " + m.constraints[k].name +
+                 (m.constraints[k].holonomic ? ", holonomic" : ", nonholonomic") + "\n";
+            for (std::size_t j = 0; j < n; ++j)
+                s += "G(" + row + "," + std::to_string(j + 1) + ") = " +
+                     cas::to_string(detail::readable(eom.constraint_matrix[k * n + j])) + "\n";
+            s += "gamma(" + row + ") = " + cas::to_string(detail::readable(eom.gamma[k])) + "\n";
+        }
+    }
     return s;
 }
 

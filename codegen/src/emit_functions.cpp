@@ -58,8 +58,68 @@ std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const N
     vector_function("momenta", "p", eom.momenta);
     vector_function("generalized_forces", "F", eom.generalized_forces);
 
+    const std::size_t mc = eom.n_constraints;
+    if (mc > 0) {
+        // accelerations_and_multipliers: M, f, G and γ from one CSE pass, then the KKT solve
+        std::vector<Expr> all = upper;
+        all.insert(all.end(), eom.forcing.begin(), eom.forcing.end());
+        all.insert(all.end(), eom.constraint_matrix.begin(), eom.constraint_matrix.end());
+        all.insert(all.end(), eom.gamma.begin(), eom.gamma.end());
+        const std::string b = body(names, all, res, uses_t, uses_p);
+        auto Mij = [&](std::size_t i, std::size_t j) {
+            for (std::size_t k = 0; k < upper_ij.size(); ++k)
+                if (upper_ij[k] == std::pair{std::min(i, j), std::max(i, j)}) return res[k];
+            return std::string("0.0");
+        };
+        const std::size_t off_f = upper.size(), off_g = off_f + n, off_gamma = off_g + mc * n;
+        s << "void accelerations_and_multipliers(const Parameters& P, double t, std::span<const double> q,\n"
+          << "                                   std::span<const double> qdot, std::span<double> qddot,\n"
+          << "                                   std::span<double> lambda) {\n"
+          << sizes("accelerations_and_multipliers", {{"q", n}, {"qdot", n}, {"qddot", n}, {"lambda", mc}})
+          << unused(true, uses_p) << b;
+        s << "    const double M[" << n * n << "] = {";
+        for (std::size_t i = 0; i < n; ++i)
+            for (std::size_t j = 0; j < n; ++j) s << (i || j ? ", " : "") << (j <= i ? Mij(i, j) : "0.0");
+        s << "};\n    const double f[" << n << "] = {";
+        for (std::size_t i = 0; i < n; ++i) s << (i ? ", " : "") << res[off_f + i];
+        s << "};\n    const double G[" << mc * n << "] = {";
+        for (std::size_t k = 0; k < mc * n; ++k) s << (k ? ", " : "") << res[off_g + k];
+        s << "};\n    const double gamma[" << mc << "] = {";
+        for (std::size_t k = 0; k < mc; ++k) s << (k ? ", " : "") << res[off_gamma + k];
+        s << "};\n    phynjo::runtime::solve_constrained<" << n << ", " << mc
+          << ">(M, f, G, gamma, qddot, lambda, constraint_names, \"" << m.name
+          << "::accelerations_and_multipliers\", t);\n}\n\n";
+        s << "void accelerations(const Parameters& P, double t, std::span<const double> q, std::span<const double> qdot,\n"
+          << "                   std::span<double> qddot) {\n"
+          << "    double lambda[" << mc << "];\n"
+          << "    accelerations_and_multipliers(P, t, q, qdot, qddot, lambda);\n}\n\n";
+        // constraint_residuals, constraint_velocity_residuals, constraint_matrix
+        auto rows = [&](const char* fn, const char* out, const std::vector<Expr>& exprs, bool with_qdot) {
+            const std::string bb = body(names, exprs, res, uses_t, uses_p);
+            s << "void " << fn << "(const Parameters& P, double t, std::span<const double> q, "
+              << (with_qdot ? "std::span<const double> qdot,\n    " : "") << "std::span<double> " << out << ") {\n"
+              << (with_qdot ? sizes(fn, {{"q", n}, {"qdot", n}, {out, exprs.size()}}) : sizes(fn, {{"q", n}, {out, exprs.size()}}))
+              << unused(uses_t, uses_p) << bb;
+            for (std::size_t k = 0; k < exprs.size(); ++k) s << "    " << out << "[" << k << "] = " << res[k] << ";\n";
+            s << "}\n\n";
+        };
+        rows("constraint_residuals", "phi", eom.residuals, true);
+        rows("constraint_velocity_residuals", "psi", eom.velocity_residuals, true);
+        rows("constraint_matrix", "G", eom.constraint_matrix, false);
+    } else {
+        s << "void accelerations_and_multipliers(const Parameters& P, double t, std::span<const double> q,\n"
+          << "                                   std::span<const double> qdot, std::span<double> qddot,\n"
+          << "                                   std::span<double> lambda) {\n"
+          << sizes("accelerations_and_multipliers", {{"lambda", 0}}) << "    accelerations(P, t, q, qdot, qddot);\n}\n\n";
+        for (const char* fn : {"constraint_residuals", "constraint_velocity_residuals"})
+            s << "void " << fn << "(const Parameters& P, double t, std::span<const double> q, std::span<const double> qdot,\n"
+              << "    std::span<double> out) {\n"
+              << sizes(fn, {{"q", n}, {"qdot", n}, {"out", 0}}) << "    (void)P;\n    (void)t;\n}\n\n";
+        s << "void constraint_matrix(const Parameters& P, double t, std::span<const double> q, std::span<double> G) {\n"
+          << sizes("constraint_matrix", {{"q", n}, {"G", 0}}) << "    (void)P;\n    (void)t;\n}\n\n";
+    }
     // accelerations: M and f from one CSE pass, then the solve
-    {
+    if (mc == 0) {
         std::vector<Expr> all = upper;
         all.insert(all.end(), eom.forcing.begin(), eom.forcing.end());
         const std::string b = body(names, all, res, uses_t, uses_p);

@@ -16,6 +16,20 @@ std::string emit_header(const Model& m, bool mass_depends_on_velocities) {
       << "/// Number of generalized coordinates.\ninline constexpr std::size_t dof = " << n << ";\n"
       << "/// The coordinates, in file order.\ninline constexpr std::array<std::string_view, dof> coordinate_names{";
     for (std::size_t i = 0; i < n; ++i) h << (i ? ", " : "") << '"' << m.coordinates[i].name << '"';
+    h << "};\n\n/// (v2) Number of constraints (lag-format.md, *Constraints*).\n"
+      << "inline constexpr std::size_t n_constraints = " << m.constraints.size() << ";\n"
+      << "/// The constraints, in file order (the rows of G, the entries of lambda).\n"
+      << "inline constexpr std::array<std::string_view, n_constraints> constraint_names{";
+    for (std::size_t k = 0; k < m.constraints.size(); ++k) h << (k ? ", " : "") << '"' << m.constraints[k].name << '"';
+    h << "};\n/// (v2) Number of inputs: parameters declared by `input`, meant to change during a run.\n"
+      << "inline constexpr std::size_t n_inputs = " << m.n_inputs() << ";\n"
+      << "/// The inputs, in file order (each is also a field of Parameters).\n"
+      << "inline constexpr std::array<std::string_view, n_inputs> input_names{";
+    {
+        std::size_t k = 0;
+        for (const auto& p : m.parameters)
+            if (p.input) h << (k++ ? ", " : "") << '"' << p.name << '"';
+    }
     h << "};\n\n/// The parameters, with the defaults of the model file. A parameter defined from others\n"
       << "/// (phynjo::runtime::Derived) follows them until it is assigned a value.\nstruct Parameters {\n";
     for (const auto& p : m.parameters) {
@@ -24,7 +38,7 @@ std::string emit_header(const Model& m, bool mass_depends_on_velocities) {
               << cas::double_literal(p.default_value) << "); ///< " << cas::to_string(p.definition) << "\n";
         else
             h << "    double " << p.name << " = " << cas::double_literal(p.default_value) << "; ///< "
-              << cas::to_string(p.value) << "\n";
+              << (p.input ? "input; default " : "") << cas::to_string(p.value) << "\n";
     }
     h << "};\n\n"
       << "// All arrays have length dof (M: dof*dof, row-major); a wrong length throws\n"
@@ -38,8 +52,12 @@ std::string emit_header(const Model& m, bool mass_depends_on_velocities) {
       << "/// f(q, q', t) of M q'' = f (lag-format.md, *Meaning*).\n"
       << "void forcing(const Parameters& P, double t, std::span<const double> q, std::span<const double> qdot,\n"
       << "             std::span<double> f);\n"
-      << "/// q'' solving M q'' = f. Throws phynjo::runtime::SingularMassMatrix when M is singular at the\n"
-      << "/// state, phynjo::runtime::NonFiniteResult when the result is not finite.\n"
+      << (m.constraints.empty()
+              ? "/// q'' solving M q'' = f. Throws phynjo::runtime::SingularMassMatrix when M is singular at the\n"
+                "/// state, phynjo::runtime::NonFiniteResult when the result is not finite.\n"
+              : "/// q'' of M q'' = f + G^T lambda, G q'' = gamma (the constrained system). Throws\n"
+                "/// phynjo::runtime::SingularMassMatrix when M is singular at the state,\n"
+                "/// phynjo::runtime::SingularConstraints when G M^-1 G^T is, NonFiniteResult for a non-finite result.\n")
       << "void accelerations(const Parameters& P, double t, std::span<const double> q, std::span<const double> qdot,\n"
       << "                   std::span<double> qddot);\n"
       << "/// p = ∂L/∂q'.\n"
@@ -52,6 +70,19 @@ std::string emit_header(const Model& m, bool mass_depends_on_velocities) {
       << "/// ∂L/∂q + Q − ∂R/∂q': the right side of p' (for canonical integrators).\n"
       << "void generalized_forces(const Parameters& P, double t, std::span<const double> q, std::span<const double> qdot,\n"
       << "                        std::span<double> F);\n\n"
+      << "// (v2) Constraints: arrays of length n_constraints; G is n_constraints*dof, row-major.\n"
+      << "/// phi: phi(q, t) for holonomic rows, a(q, t)*q' + b(q, t) for nonholonomic rows.\n"
+      << "void constraint_residuals(const Parameters& P, double t, std::span<const double> q,\n"
+      << "                          std::span<const double> qdot, std::span<double> phi);\n"
+      << "/// The velocity-level constraints: phi' = G q' + dphi/dt (holonomic rows), phi (nonholonomic rows).\n"
+      << "void constraint_velocity_residuals(const Parameters& P, double t, std::span<const double> q,\n"
+      << "                                   std::span<const double> qdot, std::span<double> psi);\n"
+      << "/// G = dphi/dq (holonomic rows), dphi/dq' (nonholonomic rows).\n"
+      << "void constraint_matrix(const Parameters& P, double t, std::span<const double> q, std::span<double> G);\n"
+      << "/// q'' and lambda of M q'' = f + G^T lambda, G q'' = gamma (without constraints: lambda is empty).\n"
+      << "void accelerations_and_multipliers(const Parameters& P, double t, std::span<const double> q,\n"
+      << "                                   std::span<const double> qdot, std::span<double> qddot,\n"
+      << "                                   std::span<double> lambda);\n\n"
       << "/// The model for the runtime's integrators (lagrangian_rk4, lagrangian_midpoint,\n"
       << "/// DormandPrince45): a LagrangianSystem bound to these parameters.\n"
       << "phynjo::runtime::LagrangianSystem system(const Parameters& P = {});\n"

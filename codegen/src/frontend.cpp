@@ -94,7 +94,9 @@ private:
     bool declare(const grammar::ast::Name& name, NameKind kind, Expr value) {
         const SourceSpan at = span(name);
         if (grammar::is_keyword(name.text)) {
-            error(at, "'" + name.text + "' is a keyword and cannot be declared");
+            const bool v2 = name.text == "constraint" || name.text == "event" || name.text == "input" || name.text == "shape";
+            error(at, "'" + name.text + "' is a keyword" + (v2 ? " (since contract v2 of the model format)" : "") +
+                          " and cannot be declared");
             return false;
         }
         if (grammar::is_builtin(name.text)) {
@@ -116,6 +118,12 @@ private:
     bool is_coordinate(Expr e) const {
         return e.kind() == cas::Kind::Symbol &&
                std::any_of(model_.coordinates.begin(), model_.coordinates.end(), [&](const auto& c) { return c.symbol == e; });
+    }
+
+    const Parameter* parameter(Expr e) const {
+        for (const Parameter& p : model_.parameters)
+            if (p.symbol == e) return &p;
+        return nullptr;
     }
 
     /// Every parameter declared so far → its exact value.
@@ -166,14 +174,13 @@ private:
     /// A constant: no coordinate, velocity or t. Parameters are allowed when `allow_parameters`.
     bool constant(Expr e, const grammar::ast::Expression& tree, const std::string& what, bool allow_parameters) {
         for (Expr v : cas::free_variables(e)) {
-            const bool is_param = v.kind() == cas::Kind::Symbol &&
-                                  std::any_of(model_.parameters.begin(), model_.parameters.end(),
-                                              [&](const Parameter& p) { return p.symbol == v; });
-            if (is_param && allow_parameters) continue;
-            std::string why = v == cas::time_symbol()        ? "time t"
+            const Parameter* p = v.kind() == cas::Kind::Symbol ? parameter(v) : nullptr;
+            if (p && !p->input && allow_parameters) continue;
+            std::string why = v == cas::time_symbol()                 ? "time t"
                               : v.kind() == cas::Kind::TimeDerivative ? "the velocity " + cas::to_string(v)
-                              : is_param                      ? "the parameter " + cas::to_string(v)
-                                                              : "the coordinate " + cas::to_string(v);
+                              : p && p->input ? "the input " + cas::to_string(v) + " (inputs change during a run)"
+                              : p             ? "the parameter " + cas::to_string(v)
+                                              : "the coordinate " + cas::to_string(v);
             error(span(tree), what + " is not constant: it depends on " + why);
             return false;
         }
@@ -200,15 +207,22 @@ private:
         init_qd_.assign(model_.coordinates.size(), Expr{});
     }
 
-    void visit(const grammar::ast::ParametersStmt& s) {
-        for (const auto& b : s.items) {
+    void visit(const grammar::ast::ParametersStmt& s) { declare_parameters(s.items, false); }
+    void visit(const grammar::ast::InputStmt& s) { declare_parameters(s.items, true); }
+
+    /// `parameters` (input = false) or `input` bindings: constant defaults, exact.
+    void declare_parameters(const std::vector<grammar::ast::Binding>& items, bool input) {
+        const std::string kind = input ? "input" : "parameter";
+        for (const auto& b : items) {
             if (!b.primes.empty()) {
-                error(span(b.name), "a parameter name cannot carry ' (parameters are constants)");
+                error(span(b.name), input ? "an input name cannot carry ' (inputs are not coordinates)"
+                                          : "a parameter name cannot carry ' (parameters are constants)");
                 continue;
             }
             auto v = expression(b.value);
             if (!v) continue;
-            if (!constant(*v, b.value, "the value of parameter '" + b.name.text + "'", true)) continue;
+            const std::string what = (input ? "the default of input '" : "the value of parameter '") + b.name.text + "'";
+            if (!constant(*v, b.value, what, true)) continue;
             // exact value: earlier parameters replaced by their values
             const auto values = parameter_values();
             Expr exact;
@@ -217,20 +231,73 @@ private:
                 exact = cas::subs(*v, values);
                 dflt = cas::evaluate(exact, {});
             } catch (const cas::Error& e) {
-                error(span(b.value), "the value of parameter '" + b.name.text + "' is not a finite real number");
+                error(span(b.value), what + " is not a finite real number");
                 continue;
             }
             if (is_cpp_keyword(b.name.text)) {
-                error(span(b.name), "'" + b.name.text +
-                                        "' cannot name a parameter: it is a C++ keyword, and parameters become fields of "
-                                        "the generated Parameters struct");
+                error(span(b.name), "'" + b.name.text + "' cannot name a" + (input ? "n " : " ") + kind +
+                                        ": it is a C++ keyword, and " + kind +
+                                        "s become fields of the generated Parameters struct");
                 continue;
             }
             const Expr sym = cas::symbol(b.name.text);
-            const bool derived = !cas::free_symbols(*v).empty();
-            if (declare(b.name, NameKind::Parameter, sym))
+            // an input's default is a number: the input itself is what changes
+            const bool derived = !input && !cas::free_symbols(*v).empty();
+            if (declare(b.name, NameKind::Parameter, sym)) {
                 model_.parameters.push_back({b.name.text, sym, exact, dflt, span(b.name), derived ? *v : Expr{}});
+                model_.parameters.back().input = input;
+            }
         }
+    }
+
+    void visit(const grammar::ast::ConstraintStmt& s) {
+        const SourceSpan at = span(s.name);
+        for (const Constraint& c : model_.constraints)
+            if (c.name == s.name.text) {
+                error(at, "a second constraint named '" + s.name.text + "'");
+                note(c.where, "the first constraint '" + s.name.text + "' is here");
+                return;
+            }
+        auto a = expression(s.lhs);
+        auto b = expression(s.rhs);
+        if (!a || !b) return;
+        const Expr phi = *a - *b;
+        const auto vars = cas::free_variables(phi);
+        bool has_velocity = false, has_coordinate = false;
+        for (Expr v : vars) {
+            if (v.kind() == cas::Kind::TimeDerivative) has_velocity = true;
+            else if (is_coordinate(v)) has_coordinate = true;
+            else if (const Parameter* p = parameter(v); p && p->input) {
+                error(at, "constraint '" + s.name.text + "' depends on the input " + p->name +
+                              ": a constraint may use t, coordinates, velocities and parameters, not inputs (their "
+                              "time derivatives are unknown)");
+                return;
+            }
+        }
+        if (!has_velocity && !has_coordinate) {
+            error(at, "constraint '" + s.name.text + "' involves no coordinate or velocity");
+            return;
+        }
+        if (has_velocity) {
+            // linear in the velocities: every ∂φ/∂q_i' free of velocities
+            for (Expr v : vars) {
+                if (v.kind() != cas::Kind::TimeDerivative) continue;
+                Expr a_i;
+                try {
+                    a_i = cas::diff(phi, v);
+                } catch (const cas::Error& e) {
+                    error(at, "constraint '" + s.name.text + "': " + e.what());
+                    return;
+                }
+                for (Expr w : cas::free_variables(a_i))
+                    if (w.kind() == cas::Kind::TimeDerivative) {
+                        error(at, "constraint '" + s.name.text + "' is not linear in the velocities: " + cas::to_string(v) +
+                                      " enters nonlinearly (a nonholonomic constraint must be a(q, t)*q' + b(q, t) = 0)");
+                        return;
+                    }
+            }
+        }
+        model_.constraints.push_back({s.name.text, phi, !has_velocity, at});
     }
 
     void visit(const grammar::ast::LetStmt& s) {

@@ -14,8 +14,9 @@ namespace phynjo::grammar {
 
 namespace {
 
-constexpr std::array<std::string_view, 8> keywords{"model", "coordinates", "parameters", "let",
-                                                     "lagrangian", "dissipation", "force", "initial"};
+constexpr std::array<std::string_view, 12> keywords{"model",       "coordinates", "parameters", "let",
+                                                      "lagrangian",  "dissipation", "force",      "initial",
+                                                      "constraint",  "event",       "input",      "shape"};
 
 /// Offset of the first byte that is not valid UTF-8, or npos.
 std::size_t invalid_utf8(std::string_view s) {
@@ -117,7 +118,7 @@ std::string_view closest_keyword(std::string_view word) {
 /// and (not for let) after every comma outside parentheses.
 void declared_names(std::string_view text, std::size_t i, std::size_t end, std::string_view keyword,
                     std::vector<std::string>& out) {
-    if (keyword != "coordinates" && keyword != "parameters" && keyword != "let") return;
+    if (keyword != "coordinates" && keyword != "parameters" && keyword != "let" && keyword != "input") return;
     auto word_char = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
     bool head = true;
     int depth = 0;
@@ -182,6 +183,13 @@ ParsedModel parse_model(std::string_view text, Positions& positions, DiagnosticS
             continuation_pending = false;
             continue;
         }
+        if (keyword == "event" || keyword == "shape") {
+            sink.error(w0, keyword.size(),
+                       "'" + keyword + "' statements are not implemented in this version of phynjo-lagc");
+            model.failed_keywords.push_back(keyword);
+            continuation_pending = false;
+            continue;
+        }
         const bool after_break = continuation_pending;
         continuation_pending = false;
         bool failed = false;
@@ -198,7 +206,10 @@ ParsedModel parse_model(std::string_view text, Positions& positions, DiagnosticS
                     while (e > r.begin && text[e - 1] == '\'') --e;
                     std::size_t b = e;
                     while (b > r.begin && (std::isalnum(static_cast<unsigned char>(text[b - 1])) || text[b - 1] == '_')) --b;
-                    const std::string what = keyword == "parameters" ? "parameter" : keyword == "initial" ? "initial value of" : "name";
+                    const std::string what = keyword == "parameters" ? "parameter"
+                                             : keyword == "input"    ? "input"
+                                             : keyword == "initial"  ? "initial value of"
+                                                                     : "name";
                     sink.error(at, t.length, "expected '=' and a value after " + what + " '" +
                                                  std::string(text.substr(b, e - b)) + "'" +
                                                  (t.kind == lexical::Token::Kind::End ? "" : ", found " + t.shown));
@@ -219,7 +230,7 @@ ParsedModel parse_model(std::string_view text, Positions& positions, DiagnosticS
                     if (!after_break)
                         lexical::report_expected(text, at, r.end,
                                                  "a statement (model, coordinates, parameters, let, lagrangian, "
-                                                 "dissipation, force or initial)",
+                                                 "dissipation, force, initial, input or constraint)",
                                                  "end of line", sink,
                                                  meant.empty() ? std::string() : " (did you mean '" + std::string(meant) + "'?)");
                     if (!meant.empty()) {

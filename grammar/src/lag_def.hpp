@@ -18,6 +18,8 @@ struct lagrangian_stmt_class : annotate_position {};
 struct dissipation_stmt_class : annotate_position {};
 struct force_stmt_class : annotate_position {};
 struct initial_stmt_class : annotate_position {};
+struct input_stmt_class : annotate_position {};
+struct constraint_stmt_class : annotate_position {};
 struct statement_class : error_handler {}; // the entry rule
 struct bindings_class {};
 struct names_class {};
@@ -31,6 +33,8 @@ inline const x3::rule<lagrangian_stmt_class, ast::LagrangianStmt> lagrangian_stm
 inline const x3::rule<dissipation_stmt_class, ast::DissipationStmt> dissipation_stmt = "dissipation statement";
 inline const x3::rule<force_stmt_class, ast::ForceStmt> force_stmt = "force statement";
 inline const x3::rule<initial_stmt_class, ast::InitialStmt> initial_stmt = "initial statement";
+inline const x3::rule<input_stmt_class, ast::InputStmt> input_stmt = "input statement";
+inline const x3::rule<constraint_stmt_class, ast::ConstraintStmt> constraint_stmt = "constraint statement";
 inline const x3::rule<statement_class, ast::Statement> statement = "statement";
 inline const x3::rule<bindings_class, std::vector<ast::Binding>> bindings = "binding";
 inline const x3::rule<names_class, std::vector<ast::Name>> names = "name";
@@ -46,10 +50,12 @@ inline const auto lagrangian_stmt_def = kw("lagrangian") > expression;
 inline const auto dissipation_stmt_def = kw("dissipation") > expression;
 inline const auto force_stmt_def = kw("force") > name > '=' > expression;
 inline const auto initial_stmt_def = kw("initial") > bindings;
+inline const auto input_stmt_def = kw("input") > bindings;
+inline const auto constraint_stmt_def = kw("constraint") > name > ':' > expression > '=' > expression;
 inline const auto statement_def = model_stmt | coordinates_stmt | parameters_stmt | let_stmt | lagrangian_stmt |
-                                  dissipation_stmt | force_stmt | initial_stmt;
+                                  dissipation_stmt | force_stmt | initial_stmt | input_stmt | constraint_stmt;
 
 BOOST_SPIRIT_DEFINE(binding, bindings, names, model_stmt, coordinates_stmt, parameters_stmt, let_stmt, lagrangian_stmt, dissipation_stmt,
-                    force_stmt, initial_stmt, statement)
+                    force_stmt, initial_stmt, input_stmt, constraint_stmt, statement)
 
 } // namespace phynjo::grammar::parser

@@ -99,8 +99,8 @@ TEST_CASE("lag diagnostics: syntax, file-level problems, several errors per run"
     CHECK(diagnose("coordinates q\nlagrangian q'^2)\n") ==
           "m.lag:2:16: error: unmatched ')'\n    lagrangian q'^2)\n                   ^\n");
     CHECK(diagnose("coordinates q\nlagrangain q'^2\n") ==
-          "m.lag:2:1: error: expected a statement (model, coordinates, parameters, let, lagrangian, dissipation, force or "
-          "initial), found 'lagrangain' (did you mean 'lagrangian'?)\n    lagrangain q'^2\n    ^~~~~~~~~~\n");
+          "m.lag:2:1: error: expected a statement (model, coordinates, parameters, let, lagrangian, dissipation, force, "
+          "initial, input or constraint), found 'lagrangain' (did you mean 'lagrangian'?)\n    lagrangain q'^2\n    ^~~~~~~~~~\n");
     CHECK(diagnose("coordinates q\nlagrangian 1/2*q'^2 +\n") ==
           "m.lag:2:22: error: expected an expression, found end of line\n    lagrangian 1/2*q'^2 +\n                         ^\n");
     CHECK(diagnose(std::string("coordinates q\nlagrangian q'^2 \xff\n")) ==

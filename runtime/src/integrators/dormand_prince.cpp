@@ -74,6 +74,7 @@ double DormandPrince45::step(World& w, double dt, double t_end) {
                 w.at(kGV, i) = tmp_[n + i];
             }
             w.time += dt;
+            if (sys_.n_constraints > 0) project_onto_constraints(sys_, w.time, w.field(kGQ), w.field(kGV), opt_.projection);
             next_ = std::min(dt * factor, opt_.dt_max);
             return dt;
         }

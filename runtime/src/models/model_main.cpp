@@ -42,8 +42,10 @@ void help(const char* prog, const ModelCommandLine& model, const LagrangianSyste
     for (const auto& n : sys.coordinate_names) coords += (coords.empty() ? "" : ", ") + n;
     std::printf("usage: %s [--t-end T] [--dt DT] [--integrator rk4|dopri|midpoint] [--every K]\n"
                 "          [--param NAME=VALUE]... [--init NAME=VALUE[,NAME'=VALUE]...]... [--output FILE]\n"
-                "          [--energy-tolerance TOL [--fail-on-drift]]\n"
-                "Simulates the model %.*s from its initial state and writes CSV: t, q..., q'..., E.\n"
+                "          [--energy-tolerance TOL [--fail-on-drift]] [--project-initial]\n"
+                "          [--projection-tolerance TOL]\n"
+                "Simulates the model %.*s from its initial state and writes CSV: t, q..., q'..., E\n"
+                "(and, for a model with constraints, their multipliers lambda_NAME...).\n"
                 "  --t-end T              end time in s (default 10); the run ends exactly at T\n"
                 "  --dt DT                step in s (default 0.001); the last step is shortened to end at T\n"
                 "  --integrator NAME      rk4 (default), dopri (Dormand-Prince 5(4), adaptive between the\n"
@@ -56,6 +58,12 @@ void help(const char* prog, const ModelCommandLine& model, const LagrangianSyste
                 "  --energy-tolerance TOL report on stderr when |E(t) - E(0)| exceeds TOL*max(1, |E(0)|)\n"
                 "                         (meaningful for conservative models; default: no check)\n"
                 "  --fail-on-drift        with --energy-tolerance: exit 3 when it is exceeded\n"
+                "  --project-initial      constraints: project the initial state onto them (Gauss-Newton on\n"
+                "                         the positions, then the velocities) and print what changed;\n"
+                "                         without it, initial values violating a constraint by more than\n"
+                "                         1e-9 (relative) stop the run with an error naming it\n"
+                "  --projection-tolerance TOL  constraints: the relative tolerance of the projections\n"
+                "                         the integrators make after each step (default 1e-12)\n"
                 "  --output FILE, -o FILE write the CSV to FILE (default: standard output)\n"
                 "Exit status: 0 done, 1 the run stopped (the message says why and when), 2 usage error,\n"
                 "3 energy drift beyond the tolerance (with --fail-on-drift).\n",
@@ -68,7 +76,8 @@ void help(const char* prog, const ModelCommandLine& model, const LagrangianSyste
 int model_main(int argc, char** argv, const ModelCommandLine& model) {
     double t_end = 10, dt = 1e-3;
     std::optional<double> energy_tolerance;
-    bool fail_on_drift = false;
+    bool fail_on_drift = false, project_initial = false;
+    ProjectionOptions projection;
     std::string integrator = "rk4", output;
     long every = 0;
     std::vector<std::pair<std::string, double>> inits;
@@ -104,6 +113,11 @@ int model_main(int argc, char** argv, const ModelCommandLine& model) {
                 energy_tolerance = num("--energy-tolerance");
                 if (!(*energy_tolerance > 0)) throw UsageError{"--energy-tolerance must be positive"};
             } else if (a == "--fail-on-drift") fail_on_drift = true;
+            else if (a == "--project-initial") project_initial = true;
+            else if (a == "--projection-tolerance") {
+                projection.tolerance = num("--projection-tolerance");
+                if (!(projection.tolerance > 0)) throw UsageError{"--projection-tolerance must be positive"};
+            }
             else if (a == "--param") {
                 const auto [name, v] = assignment("--param", value("--param"));
                 bool found = false;
@@ -153,6 +167,31 @@ int model_main(int argc, char** argv, const ModelCommandLine& model) {
         }
         w.at(velocity ? kGV : kGQ, static_cast<Index>(it - sys.coordinate_names.begin())) = v;
     }
+    if (sys.n_constraints > 0) {
+        std::vector<double> q0(w.field(kGQ).begin(), w.field(kGQ).end()), v0(w.field(kGV).begin(), w.field(kGV).end());
+        try {
+            if (project_initial) {
+                project_onto_constraints(sys, 0, w.field(kGQ), w.field(kGV), projection);
+                std::string changed;
+                char buf[160];
+                for (std::size_t i = 0; i < dof; ++i)
+                    for (int level = 0; level < 2; ++level) {
+                        const double before = level ? v0[i] : q0[i], after = w.at(level ? kGV : kGQ, static_cast<Index>(i));
+                        if (before == after) continue;
+                        std::snprintf(buf, sizeof buf, "  %s%s: %.17g -> %.17g\n", sys.coordinate_names[i].c_str(),
+                                      level ? "'" : "", before, after);
+                        changed += buf;
+                    }
+                std::fprintf(stderr, "%s: --project-initial: %s", argv[0],
+                             changed.empty() ? "the initial state satisfies the constraints; nothing changed\n"
+                                             : ("projected the initial state onto the constraints:\n" + changed).c_str());
+            }
+            check_constraints(sys, 0, w.field(kGQ), w.field(kGV));
+        } catch (const std::exception& e) {
+            std::fprintf(stderr, "%s: %s\n", argv[0], e.what());
+            return 1;
+        }
+    }
     // Full steps, then a shortened last one: the run ends exactly at t_end (a ratio within
     // 1e-9 of a whole number counts as that number: 20 / 0.001 is 20000, not 20000.000000000004).
     const double ratio = t_end / dt;
@@ -170,7 +209,10 @@ int model_main(int argc, char** argv, const ModelCommandLine& model) {
     std::fprintf(out, "t");
     for (const auto& n : sys.coordinate_names) std::fprintf(out, ",%s", n.c_str());
     for (const auto& n : sys.coordinate_names) std::fprintf(out, ",%s'", n.c_str());
-    std::fprintf(out, ",E\n");
+    std::fprintf(out, ",E");
+    for (const auto& n : sys.constraint_names) std::fprintf(out, ",lambda_%s", n.c_str());
+    std::fprintf(out, "\n");
+    std::vector<double> acc(dof), lambda(sys.n_constraints);
     const double e0 = sys.energy(0, w.field(kGQ), w.field(kGV));
     double drift = 0;
     auto row = [&] {
@@ -179,7 +221,12 @@ int model_main(int argc, char** argv, const ModelCommandLine& model) {
         std::fprintf(out, "%.17g", w.time);
         for (std::size_t i = 0; i < dof; ++i) std::fprintf(out, ",%.17g", w.at(kGQ, static_cast<Index>(i)));
         for (std::size_t i = 0; i < dof; ++i) std::fprintf(out, ",%.17g", w.at(kGV, static_cast<Index>(i)));
-        std::fprintf(out, ",%.17g\n", e);
+        std::fprintf(out, ",%.17g", e);
+        if (sys.n_constraints > 0) {
+            sys.accelerations_and_multipliers(w.time, w.field(kGQ), w.field(kGV), acc, lambda);
+            for (double l : lambda) std::fprintf(out, ",%.17g", l);
+        }
+        std::fprintf(out, "\n");
     };
     int status = 0;
     try {
@@ -194,7 +241,9 @@ int model_main(int argc, char** argv, const ModelCommandLine& model) {
             if (k % every == 0 || k == total) row();
         };
         if (integrator == "dopri") {
-            DormandPrince45 dp(sys, {});
+            DormandPrince45::Options dopts;
+            dopts.projection = projection;
+            DormandPrince45 dp(sys, dopts);
             double h = dt;
             auto step_to = [&](double target, double) {
                 while (w.time < target - 1e-12 * dt)
@@ -202,7 +251,8 @@ int model_main(int argc, char** argv, const ModelCommandLine& model) {
             };
             for (long k = 1; k <= total; ++k) advance(step_to, k, target_of(k));
         } else {
-            Stepper stepper(integrator == "rk4" ? lagrangian_rk4(sys, w.layout_ptr()) : lagrangian_midpoint(sys, w.layout_ptr()));
+            Stepper stepper(integrator == "rk4" ? lagrangian_rk4(sys, w.layout_ptr(), projection)
+                                                : lagrangian_midpoint(sys, w.layout_ptr(), projection));
             for (long k = 1; k <= total; ++k) {
                 const double target = target_of(k);
                 advance([&](double, double h) { stepper.step(w, h); }, k, target);

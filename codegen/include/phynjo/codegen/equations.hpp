@@ -25,6 +25,17 @@ struct EquationsOfMotion {
     /// ∂L/∂q_i + Q_i − ∂R/∂q_i': the right side of p_i' in canonical form (for integrators
     /// that work with (q, p)).
     std::vector<cas::Expr> generalized_forces;
+
+    // (v2) Constraints, file order (lag-format.md, *Constraints*): M q'' = f + Gᵀλ, G q'' = γ.
+    std::size_t n_constraints = 0;
+    /// G, row-major n_constraints×dof: ∂φ/∂q (holonomic rows), ∂φ/∂q' (nonholonomic rows).
+    std::vector<cas::Expr> constraint_matrix;
+    /// γ: the part of φ'' (holonomic) or φ' (nonholonomic) without q'', negated.
+    std::vector<cas::Expr> gamma;
+    /// φ: φ(q, t) for holonomic rows, a·q' + b for nonholonomic rows.
+    std::vector<cas::Expr> residuals;
+    /// The velocity-level constraints: φ' = G q' + ∂φ/∂t (holonomic rows), φ (nonholonomic).
+    std::vector<cas::Expr> velocity_residuals;
 };
 
 /// Documented limits of the derivation.
@@ -35,8 +46,10 @@ struct DeriveLimits {
 
 /// Derives the equations of motion. Reports, at the coordinate, a mass matrix that is
 /// singular for every q, t and parameter values (for example a coordinate whose velocity
-/// does not appear in L), and, at the lagrangian statement, equations larger than
-/// `limits.max_nodes`; returns nothing then.
+/// does not appear in L); at a constraint, a constraint matrix G whose row is a combination
+/// of the earlier rows for every state (a constraint written twice, or implied by others);
+/// and, at the lagrangian statement, equations larger than `limits.max_nodes`; returns
+/// nothing then.
 std::optional<EquationsOfMotion> derive(const Model& model, grammar::DiagnosticSink& sink, const DeriveLimits& limits = {});
 
 } // namespace phynjo::codegen

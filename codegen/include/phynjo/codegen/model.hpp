@@ -32,6 +32,18 @@ struct Parameter {
     /// for a plain number.
     cas::Expr definition;
     [[nodiscard]] bool derived() const noexcept { return !definition.is_null(); }
+    /// (v2) Declared by `input`: a parameter meant to change during a run; also listed in
+    /// the generated input_names.
+    bool input = false;
+};
+
+/// (v2) `constraint NAME: A = B`: φ = A − B = 0 (lag-format.md, *Constraints*).
+struct Constraint {
+    std::string name;
+    cas::Expr phi;          ///< A − B, every `let` substituted
+    /// True when φ contains no velocity: φ(q, t) = 0. Otherwise φ = a(q, t)·q' + b(q, t).
+    bool holonomic = true;
+    SourceSpan where;       ///< the constraint's name
 };
 
 struct Model {
@@ -44,6 +56,13 @@ struct Model {
     std::vector<cas::Expr> forces;  ///< Q_i per coordinate, 0 if absent
     std::vector<cas::Expr> initial_q, initial_qdot; ///< in terms of the parameters; 0 if absent
     SourceSpan lagrangian_where;
+    std::vector<Constraint> constraints; ///< file order
+
+    [[nodiscard]] std::size_t n_inputs() const noexcept {
+        std::size_t k = 0;
+        for (const auto& p : parameters) k += p.input ? 1 : 0;
+        return k;
+    }
 
     [[nodiscard]] std::size_t dof() const noexcept { return coordinates.size(); }
     [[nodiscard]] std::vector<cas::Expr> coordinate_symbols() const;

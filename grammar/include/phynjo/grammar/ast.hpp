@@ -116,8 +116,19 @@ struct InitialStmt : x3::position_tagged {
     std::vector<Binding> items;
 };
 
+/// (v2) `input u = 0, …`: exogenous inputs with defaults.
+struct InputStmt : x3::position_tagged {
+    std::vector<Binding> items;
+};
+/// (v2) `constraint NAME: A = B`.
+struct ConstraintStmt : x3::position_tagged {
+    Name name;
+    Expression lhs;
+    Expression rhs;
+};
+
 struct Statement : x3::variant<ModelStmt, CoordinatesStmt, ParametersStmt, LetStmt, LagrangianStmt, DissipationStmt,
-                               ForceStmt, InitialStmt> {
+                               ForceStmt, InitialStmt, InputStmt, ConstraintStmt> {
     using base_type::base_type;
     using base_type::operator=;
 };

@@ -43,4 +43,7 @@
 #include "phynjo/runtime/integrators/splitting.hpp"
 #include "phynjo/runtime/integrators/symplectic_euler.hpp"
 
+#include "phynjo/runtime/models/constraint_projection.hpp"
 #include "phynjo/runtime/models/generated.hpp"
+#include "phynjo/runtime/models/kkt_solve.hpp"
+#include "phynjo/runtime/models/symmetric_solve.hpp"

@@ -3,6 +3,7 @@
 /// Typed exceptions for API misuse, thrown when a workflow is built (never mid-run).
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace phynjo::runtime {
@@ -54,11 +55,41 @@ public:
 
 namespace phynjo::runtime {
 
-/// The mass matrix of a generated model is not positive definite at the given state, so
-/// M q'' = f cannot be solved (raised by `accelerations`, never a silent NaN).
+/// The mass matrix of a generated model is singular at the given state, so M q'' = f cannot
+/// be solved (raised by `accelerations`, never a silent NaN).
 class SingularMassMatrix : public Error {
 public:
     using Error::Error;
+};
+
+/// The constraints of a generated model are dependent at the given state (G M⁻¹ Gᵀ is
+/// singular: a four-bar linkage at a dead point, two constraints that coincide there), so
+/// the multipliers λ of M q'' = f + Gᵀλ, G q'' = γ are not determined. Raised by
+/// `accelerations` and `accelerations_and_multipliers`; constraints() names the ones involved.
+class SingularConstraints : public Error {
+public:
+    SingularConstraints(const std::string& message, std::vector<std::string> constraints)
+        : Error(message), constraints_(std::move(constraints)) {}
+    /// The constraints involved: a dependent one and those it is a combination of.
+    [[nodiscard]] const std::vector<std::string>& constraints() const noexcept { return constraints_; }
+
+private:
+    std::vector<std::string> constraints_;
+};
+
+/// Initial values that violate a constraint (relative 1e-9; lag-format.md, *Constraints*).
+class InconsistentInitialValues : public Error {
+public:
+    InconsistentInitialValues(const std::string& message, std::string constraint, double residual)
+        : Error(message), constraint_(std::move(constraint)), residual_(residual) {}
+    /// The first constraint violated.
+    [[nodiscard]] const std::string& constraint() const noexcept { return constraint_; }
+    /// Its residual φ (position level) or φ' (velocity level).
+    [[nodiscard]] double residual() const noexcept { return residual_; }
+
+private:
+    std::string constraint_;
+    double residual_;
 };
 
 /// A computation produced NaN or infinity from finite inputs.

@@ -2,7 +2,7 @@
 /// \file
 /// Adaptive Dormand–Prince 5(4) for generated models. Order 5 (4 for the error estimate),
 /// not symplectic. (source: integrators/dormand_prince.cpp)
-#include "phynjo/runtime/models/lagrangian_system.hpp"
+#include "phynjo/runtime/models/constraint_projection.hpp"
 
 #include <cstddef>
 #include <vector>
@@ -11,12 +11,16 @@ namespace phynjo::runtime {
 
 /// Dormand–Prince 5(4) with local error control (FSAL, PI-free classic controller):
 /// err = ‖(y5 − y4)/(atol + rtol·|y|)‖_rms ≤ 1 accepts; dt_new = dt·clamp(0.9·err^(−1/5), 0.2, 5).
+/// Constrained models (n_constraints > 0): the state is projected onto the constraints
+/// after every accepted step (constraint_projection.hpp).
 /// Reference: J. R. Dormand, P. J. Prince, J. Comput. Appl. Math. 6, 19 (1980).
 class DormandPrince45 {
 public:
     struct Options {
         double rtol = 1e-9, atol = 1e-12;
         double dt_min = 1e-12, dt_max = 1.0;
+        /// Constrained models: the projection after every accepted step.
+        ProjectionOptions projection{};
     };
     DormandPrince45(LagrangianSystem system, Options options);
     /// Advances `w` by one accepted step starting with a trial step `dt` (clipped to

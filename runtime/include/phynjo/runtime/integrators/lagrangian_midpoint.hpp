@@ -2,7 +2,7 @@
 /// \file
 /// The implicit midpoint rule for generated models, in canonical coordinates (q, p). Order 2,
 /// symplectic, symmetric. (source: integrators/lagrangian_midpoint.cpp)
-#include "phynjo/runtime/models/lagrangian_system.hpp"
+#include "phynjo/runtime/models/constraint_projection.hpp"
 
 namespace phynjo::runtime {
 
@@ -12,6 +12,10 @@ namespace phynjo::runtime {
 /// fixed-point iteration to round-off. Order 2, symplectic and symmetric: for a
 /// conservative autonomous Lagrangian the energy error stays bounded over long runs.
 /// Reference: Hairer, Lubich, Wanner, Geometric Numerical Integration, §VI.3.
-NumericWorkflow lagrangian_midpoint(const LagrangianSystem& system, const std::shared_ptr<const Layout>& layout);
+/// Constrained models (n_constraints > 0): p' = F + Gᵀλ, and the step is wrapped in the
+/// symmetric projection (Hairer, BIT 40, 2000) onto φ_h = 0 and the velocity constraints,
+/// to `projection.tolerance`; it stays symmetric, so the energy error stays bounded.
+NumericWorkflow lagrangian_midpoint(const LagrangianSystem& system, const std::shared_ptr<const Layout>& layout,
+                                    const ProjectionOptions& projection = {});
 
 } // namespace phynjo::runtime

@@ -1,0 +1,84 @@
+#pragma once
+/// \file
+/// Keeping a constrained generated model on its constraint manifold (lag-format.md,
+/// *Constraints*): checks of initial values, and the projections the integrators apply
+/// after a step (lagrangian_rk4, DormandPrince45; lagrangian_midpoint projects
+/// symmetrically). Projections are minimum-norm (Euclidean in the coordinates):
+///   positions  q ← q − G_hᵀ (G_h G_hᵀ)⁻¹ φ_h(q, t)   iterated (Gauss–Newton), holonomic rows;
+///   velocities q' ← q' − Gᵀ (G Gᵀ)⁻¹ ψ(q, q', t)      one step (ψ is affine in q'),
+/// with ψ the velocity-level constraints: φ' = G q' + ∂φ/∂t for holonomic rows and φ itself
+/// for nonholonomic rows. Reference: Hairer, Lubich, Wanner, Geometric Numerical
+/// Integration, §IV.4 (standard projection). No allocation in a steady step.
+#include "phynjo/runtime/models/lagrangian_system.hpp"
+
+#include <cstddef>
+#include <span>
+#include <string>
+
+namespace phynjo::runtime {
+
+/// Tolerances of the projections.
+struct ProjectionOptions {
+    /// A constraint counts as satisfied when |φ_i| ≤ tolerance·max(1, Σ_j |G_ij q_j|) at
+    /// position level, |ψ_i| ≤ tolerance·max(1, Σ_j |G_ij q'_j|) at velocity level.
+    double tolerance = 1e-12;
+    /// Gauss–Newton iterations before the projection gives up (ConvergenceError).
+    int max_iterations = 20;
+};
+
+/// The default relative tolerance of initial values (lag-format.md: 1e-9).
+inline constexpr double kInitialConstraintTolerance = 1e-9;
+
+/// The worst-satisfied constraint at a state.
+struct ConstraintViolation {
+    std::size_t constraint = 0;  ///< index in file order
+    bool velocity_level = false; ///< ψ (velocity level) rather than φ (position level)
+    double residual = 0;         ///< φ_i or ψ_i
+    double scaled = 0;           ///< |residual| / max(1, Σ_j |G_ij x_j|), x = q or q'
+};
+
+/// The largest scaled residual over the holonomic rows at position level and all rows at
+/// velocity level (position level wins ties). Zero for a model without constraints.
+ConstraintViolation worst_constraint_violation(const LagrangianSystem& s, double t, std::span<const double> q,
+                                               std::span<const double> qdot);
+
+/// Throws InconsistentInitialValues, naming the constraint and its residual, when a scaled
+/// residual exceeds `tolerance`: the worst position-level violation if there is one, else
+/// the worst velocity-level one.
+void check_constraints(const LagrangianSystem& s, double t, std::span<const double> q, std::span<const double> qdot,
+                       double tolerance = kInitialConstraintTolerance);
+
+/// Projects q onto φ_h(q, t) = 0 (holonomic rows). Throws ConvergenceError when Gauss–Newton
+/// does not reach the tolerance, SingularConstraints when G_h G_hᵀ is singular.
+void project_positions(const LagrangianSystem& s, double t, std::span<double> q, std::span<const double> qdot,
+                       const ProjectionOptions& options = {});
+
+/// Projects q' onto ψ(q, q', t) = 0 (every row); q' already within the tolerance is left
+/// exactly as it is. Throws SingularConstraints when G Gᵀ is singular.
+void project_velocities(const LagrangianSystem& s, double t, std::span<const double> q, std::span<double> qdot,
+                        const ProjectionOptions& options = {});
+
+/// Positions, then velocities; a state within the tolerance is left exactly as it is.
+void project_onto_constraints(const LagrangianSystem& s, double t, std::span<double> q, std::span<double> qdot,
+                              const ProjectionOptions& options = {});
+
+/// A rule (`project_constraints`, writing q and q') that projects the state onto the
+/// constraints at the end of a step (time w.time + dt): what non-symmetric integrators
+/// append after their stages.
+NumericRule constraint_projection_rule(const LagrangianSystem& s, const std::shared_ptr<const Layout>& layout,
+                                       const ProjectionOptions& options = {});
+
+namespace detail {
+/// x ← x + Gᵀ μ restricted to `rows` (holonomic only when `holonomic_only`): the correction
+/// directions of the projections. G is n_constraints×dof; μ has one entry per selected row.
+void add_constraint_directions(const LagrangianSystem& s, std::span<const double> G, bool holonomic_only,
+                               std::span<const double> mu, std::span<double> x);
+/// Solves (G_s G_sᵀ) y = r in place for the selected rows (holonomic only when
+/// `holonomic_only`); throws SingularConstraints naming the rows when singular.
+void solve_gram(const LagrangianSystem& s, std::span<const double> G, bool holonomic_only, std::span<double> r,
+                double t);
+/// The number of holonomic rows.
+std::size_t holonomic_count(const LagrangianSystem& s);
+} // namespace detail
+
+} // namespace phynjo::runtime

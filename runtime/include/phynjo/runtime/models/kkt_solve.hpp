@@ -1,0 +1,131 @@
+#pragma once
+/// \file
+/// The saddle-point system of a constrained model (lag-format.md, *Constraints*):
+///   M q'' = f + Gᵀλ,   G q'' = γ,
+/// solved through the Schur complement: with u = M⁻¹f and Y = M⁻¹Gᵀ,
+///   (G Y) λ = γ − G u,   q'' = u + Y λ.
+/// M is factored once (LDLᵀ, or pivoted LU when indefinite) and solved for 1 + C right-hand
+/// sides; G M⁻¹ Gᵀ (C×C, symmetric) is factored the same way. Fixed size, no allocation in
+/// the regular case (bench/: `ratio kkt_four_bar` against a dense KKT solve).
+#include "phynjo/runtime/core/errors.hpp"
+#include "phynjo/runtime/models/symmetric_solve.hpp"
+
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace phynjo::runtime {
+
+namespace detail {
+
+/// The constraints involved when G M⁻¹ Gᵀ is singular: the first row of G (C×N) that is a
+/// combination of earlier rows at this state, and those rows (error path only: allocates).
+inline std::vector<std::size_t> dependent_constraints(const double* G, std::size_t C, std::size_t N) {
+    std::vector<double> R(G, G + C * N), T(C * C, 0.0); // reduced rows; R = T·G
+    for (std::size_t k = 0; k < C; ++k) T[k * C + k] = 1;
+    double scale = 0;
+    for (double v : R) scale = std::max(scale, std::fabs(v));
+    std::vector<std::size_t> pivot_col(C, N);
+    for (std::size_t k = 0; k < C; ++k) {
+        for (std::size_t e = 0; e < k; ++e) { // eliminate with the earlier independent rows
+            const std::size_t c = pivot_col[e];
+            if (c == N) continue;
+            const double f = R[k * N + c] / R[e * N + c];
+            for (std::size_t j = 0; j < N; ++j) R[k * N + j] -= f * R[e * N + j];
+            for (std::size_t j = 0; j < C; ++j) T[k * C + j] -= f * T[e * C + j];
+        }
+        std::size_t best = N;
+        for (std::size_t j = 0; j < N; ++j)
+            if (std::fabs(R[k * N + j]) > 1e-9 * scale && (best == N || std::fabs(R[k * N + j]) > std::fabs(R[k * N + best])))
+                best = j;
+        if (best == N) { // row k depends on the earlier rows with the coefficients in T
+            std::vector<std::size_t> out{k};
+            for (std::size_t j = 0; j < k; ++j)
+                if (std::fabs(T[k * C + j]) > 1e-9) out.push_back(j);
+            return out;
+        }
+        pivot_col[k] = best;
+    }
+    return {}; // G has full rank: M is what makes G M⁻¹ Gᵀ singular
+}
+
+[[noreturn]] inline void throw_singular_constraints(const double* G, std::size_t C, std::size_t N,
+                                                    std::span<const std::string_view> names, std::string_view where,
+                                                    double t) {
+    const auto rows = dependent_constraints(G, C, N);
+    std::vector<std::string> involved;
+    std::string what = std::string(where) + ": the constraints are singular at t = " + std::to_string(t) + ": ";
+    if (rows.empty()) {
+        for (auto n : names) involved.emplace_back(n);
+        what += "G M^-1 G^T is singular although G has full rank (the mass matrix is indefinite) for";
+        for (std::size_t k = 0; k < names.size(); ++k) what += (k ? ", '" : " '") + std::string(names[k]) + "'";
+    } else {
+        for (auto r : rows) involved.emplace_back(names[r]);
+        what += "'" + involved[0] + "' ";
+        if (rows.size() == 1) what += "has a zero row in G here";
+        else {
+            what += "is a combination of";
+            for (std::size_t k = 1; k < involved.size(); ++k) what += (k > 1 ? ", '" : " '") + involved[k] + "'";
+            what += " here";
+        }
+    }
+    what += " (the multipliers are not determined: a dead point or a bifurcation of the mechanism?)";
+    throw SingularConstraints(what, std::move(involved));
+}
+
+} // namespace detail
+
+/// q'' and λ of M q'' = f + Gᵀλ, G q'' = γ. `M` holds the lower triangle of the symmetric
+/// N×N mass matrix (row-major), `G` is C×N row-major. Throws SingularMassMatrix when M is
+/// singular, SingularConstraints (naming the constraints involved, from `names`) when
+/// G M⁻¹ Gᵀ is, NonFiniteResult for a non-finite result. `where` and `t` go into messages.
+template <std::size_t N, std::size_t C>
+inline void solve_constrained(const double (&M)[N * N], const double (&f)[N], const double (&G)[C * N],
+                              const double (&gamma)[C], std::span<double> qddot, std::span<double> lambda,
+                              const std::array<std::string_view, C>& names, std::string_view where, double t) {
+    const SymmetricFactor<N> m(M);
+    double u[N], Y[C][N];
+    for (std::size_t i = 0; i < N; ++i) u[i] = f[i];
+    m.solve(u);
+    for (std::size_t k = 0; k < C; ++k) {
+        for (std::size_t i = 0; i < N; ++i) Y[k][i] = G[k * N + i];
+        m.solve(Y[k]);
+    }
+    double S[C * C], r[C];
+    for (std::size_t a = 0; a < C; ++a) {
+        double ga = gamma[a];
+        for (std::size_t i = 0; i < N; ++i) ga -= G[a * N + i] * u[i];
+        r[a] = ga;
+        for (std::size_t b = 0; b <= a; ++b) {
+            double s = 0;
+            for (std::size_t i = 0; i < N; ++i) s += G[a * N + i] * Y[b][i];
+            S[a * C + b] = s;
+        }
+    }
+    bool singular = false;
+    try {
+        const SymmetricFactor<C> s(S);
+        s.solve(r);
+    } catch (const SingularMassMatrix&) {
+        singular = true;
+    }
+    if (singular) detail::throw_singular_constraints(G, C, N, names, where, t);
+    for (std::size_t i = 0; i < N; ++i) {
+        double a = u[i];
+        for (std::size_t k = 0; k < C; ++k) a += Y[k][i] * r[k];
+        qddot[i] = a;
+    }
+    for (std::size_t k = 0; k < C; ++k) lambda[k] = r[k];
+    for (std::size_t i = 0; i < N; ++i)
+        if (!std::isfinite(qddot[i]))
+            throw NonFiniteResult(std::string(where) + ": non-finite result at t = " + std::to_string(t));
+    for (std::size_t k = 0; k < C; ++k)
+        if (!std::isfinite(lambda[k]))
+            throw NonFiniteResult(std::string(where) + ": non-finite multiplier at t = " + std::to_string(t));
+}
+
+} // namespace phynjo::runtime

@@ -1,0 +1,217 @@
+// Projections onto the constraint manifold of a generated model, and the check of initial
+// values (constraint_projection.hpp). Scratch is thread-local and keeps its size: no
+// allocation in a steady step.
+#include "phynjo/runtime/models/constraint_projection.hpp"
+
+#include "phynjo/runtime/models/kkt_solve.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace phynjo::runtime {
+
+namespace detail {
+
+std::size_t holonomic_count(const LagrangianSystem& s) {
+    std::size_t k = 0;
+    for (unsigned char h : s.constraint_holonomic) k += h ? 1 : 0;
+    return k;
+}
+
+void add_constraint_directions(const LagrangianSystem& s, std::span<const double> G, bool holonomic_only,
+                               std::span<const double> mu, std::span<double> x) {
+    const std::size_t n = s.dof;
+    std::size_t r = 0;
+    for (std::size_t k = 0; k < s.n_constraints; ++k) {
+        if (holonomic_only && !s.constraint_holonomic[k]) continue;
+        const double m = mu[r++];
+        for (std::size_t j = 0; j < n; ++j) x[j] += G[k * n + j] * m;
+    }
+}
+
+void solve_gram(const LagrangianSystem& s, std::span<const double> G, bool holonomic_only, std::span<double> r,
+                double t) {
+    const std::size_t n = s.dof;
+    thread_local std::vector<std::size_t> rows;
+    thread_local std::vector<double> A;
+    rows.clear();
+    for (std::size_t k = 0; k < s.n_constraints; ++k)
+        if (!holonomic_only || s.constraint_holonomic[k]) rows.push_back(k);
+    const std::size_t m = rows.size();
+    A.assign(m * m, 0.0);
+    double scale = 0;
+    for (std::size_t a = 0; a < m; ++a)
+        for (std::size_t b = 0; b < m; ++b) {
+            double v = 0;
+            for (std::size_t j = 0; j < n; ++j) v += G[rows[a] * n + j] * G[rows[b] * n + j];
+            A[a * m + b] = v;
+            scale = std::max(scale, std::fabs(v));
+        }
+    // LU with partial pivoting, applied to r as it goes
+    for (std::size_t c = 0; c < m; ++c) {
+        std::size_t piv = c;
+        for (std::size_t i = c + 1; i < m; ++i)
+            if (std::fabs(A[i * m + c]) > std::fabs(A[piv * m + c])) piv = i;
+        if (!(std::fabs(A[piv * m + c]) > kSingularTolerance * scale)) {
+            std::vector<double> Gs(m * n);
+            std::vector<std::string_view> names;
+            for (std::size_t a = 0; a < m; ++a) {
+                for (std::size_t j = 0; j < n; ++j) Gs[a * n + j] = G[rows[a] * n + j];
+                names.emplace_back(s.constraint_names[rows[a]]);
+            }
+            throw_singular_constraints(Gs.data(), m, n, names, "constraint projection", t);
+        }
+        if (piv != c) {
+            for (std::size_t j = 0; j < m; ++j) std::swap(A[c * m + j], A[piv * m + j]);
+            std::swap(r[c], r[piv]);
+        }
+        for (std::size_t i = c + 1; i < m; ++i) {
+            const double f = A[i * m + c] / A[c * m + c];
+            for (std::size_t j = c; j < m; ++j) A[i * m + j] -= f * A[c * m + j];
+            r[i] -= f * r[c];
+        }
+    }
+    for (std::size_t i = m; i-- > 0;) {
+        double x = r[i];
+        for (std::size_t j = i + 1; j < m; ++j) x -= A[i * m + j] * r[j];
+        r[i] = x / A[i * m + i];
+    }
+}
+
+} // namespace detail
+
+namespace {
+
+double row_scale(std::span<const double> G, std::size_t k, std::size_t n, std::span<const double> x) {
+    double s = 0;
+    for (std::size_t j = 0; j < n; ++j) s += std::fabs(G[k * n + j] * x[j]);
+    return std::max(1.0, s);
+}
+
+} // namespace
+
+namespace {
+
+/// The worst scaled residual at one level: position (holonomic rows) or velocity (all rows).
+ConstraintViolation worst_at_level(const LagrangianSystem& s, double t, std::span<const double> q,
+                                   std::span<const double> qdot, bool velocity) {
+    ConstraintViolation worst;
+    const std::size_t m = s.n_constraints, n = s.dof;
+    thread_local std::vector<double> G, r;
+    G.assign(m * n, 0.0);
+    r.assign(m, 0.0);
+    s.constraint_matrix(t, q, G);
+    if (velocity) s.constraint_velocity_residuals(t, q, qdot, r);
+    else s.constraint_residuals(t, q, qdot, r);
+    bool first = true;
+    for (std::size_t k = 0; k < m; ++k) {
+        if (!velocity && !s.constraint_holonomic[k]) continue;
+        const double scaled = std::isfinite(r[k]) ? std::fabs(r[k]) / row_scale(G, k, n, velocity ? qdot : q) : HUGE_VAL;
+        if (first || scaled > worst.scaled) worst = {k, velocity, r[k], scaled};
+        first = false;
+    }
+    return worst;
+}
+
+} // namespace
+
+ConstraintViolation worst_constraint_violation(const LagrangianSystem& s, double t, std::span<const double> q,
+                                               std::span<const double> qdot) {
+    if (s.n_constraints == 0) return {};
+    const ConstraintViolation p = worst_at_level(s, t, q, qdot, false), v = worst_at_level(s, t, q, qdot, true);
+    return v.scaled > p.scaled ? v : p;
+}
+
+void check_constraints(const LagrangianSystem& s, double t, std::span<const double> q, std::span<const double> qdot,
+                       double tolerance) {
+    if (s.n_constraints == 0) return;
+    // positions first: velocity constraints of a state off the position manifold mean little
+    ConstraintViolation v = worst_at_level(s, t, q, qdot, false);
+    if (!(v.scaled > tolerance)) v = worst_at_level(s, t, q, qdot, true);
+    if (!(v.scaled > tolerance)) return;
+    const std::string& name = s.constraint_names[v.constraint];
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.6g", v.residual);
+    const bool nonholonomic = !s.constraint_holonomic[v.constraint];
+    char tol[32];
+    std::snprintf(tol, sizeof tol, "%g", tolerance);
+    throw InconsistentInitialValues(
+        "the state at t = " + std::to_string(t) + " violates constraint '" + name + "' " +
+            (nonholonomic        ? "(nonholonomic): its residual is "
+             : v.velocity_level ? "at velocity level: its time derivative is "
+                                : "at position level: its residual is ") +
+            buf + " (relative tolerance " + tol +
+            "; give consistent initial values, or project them: --project-initial)",
+        name, v.residual);
+}
+
+void project_positions(const LagrangianSystem& s, double t, std::span<double> q, std::span<const double> qdot,
+                       const ProjectionOptions& options) {
+    const std::size_t m = s.n_constraints, n = s.dof, mh = detail::holonomic_count(s);
+    if (mh == 0) return;
+    thread_local std::vector<double> G, phi, r;
+    G.assign(m * n, 0.0);
+    phi.assign(m, 0.0);
+    r.assign(mh, 0.0);
+    for (int it = 0; it <= options.max_iterations; ++it) {
+        s.constraint_matrix(t, q, G);
+        s.constraint_residuals(t, q, qdot, phi);
+        bool ok = true;
+        std::size_t i = 0;
+        for (std::size_t k = 0; k < m; ++k) {
+            if (!s.constraint_holonomic[k]) continue;
+            if (!std::isfinite(phi[k]))
+                throw NonFiniteResult("constraint projection: constraint '" + s.constraint_names[k] +
+                                      "' is not finite at t = " + std::to_string(t));
+            ok = ok && std::fabs(phi[k]) <= options.tolerance * row_scale(G, k, n, q);
+            r[i++] = -phi[k];
+        }
+        if (ok) return;
+        if (it == options.max_iterations) break;
+        detail::solve_gram(s, G, true, r, t);
+        detail::add_constraint_directions(s, G, true, r, q);
+    }
+    throw ConvergenceError("constraint projection did not converge at t = " + std::to_string(t) + " in " +
+                           std::to_string(options.max_iterations) + " Gauss-Newton iterations");
+}
+
+void project_velocities(const LagrangianSystem& s, double t, std::span<const double> q, std::span<double> qdot,
+                        const ProjectionOptions& options) {
+    const std::size_t m = s.n_constraints, n = s.dof;
+    if (m == 0) return;
+    thread_local std::vector<double> G, psi;
+    G.assign(m * n, 0.0);
+    psi.assign(m, 0.0);
+    s.constraint_matrix(t, q, G);
+    s.constraint_velocity_residuals(t, q, qdot, psi);
+    bool ok = true;
+    for (std::size_t k = 0; k < m; ++k) {
+        if (!std::isfinite(psi[k]))
+            throw NonFiniteResult("constraint projection: the velocity constraint of '" + s.constraint_names[k] +
+                                  "' is not finite at t = " + std::to_string(t));
+        ok = ok && std::fabs(psi[k]) <= options.tolerance * row_scale(G, k, n, qdot);
+    }
+    if (ok) return; // already on the manifold: left exactly as it is
+    for (double& v : psi) v = -v;
+    detail::solve_gram(s, G, false, psi, t);
+    detail::add_constraint_directions(s, G, false, psi, qdot);
+}
+
+void project_onto_constraints(const LagrangianSystem& s, double t, std::span<double> q, std::span<double> qdot,
+                              const ProjectionOptions& options) {
+    project_positions(s, t, q, qdot, options);
+    project_velocities(s, t, q, qdot, options);
+}
+
+NumericRule constraint_projection_rule(const LagrangianSystem& s, const std::shared_ptr<const Layout>& layout,
+                                       const ProjectionOptions& options) {
+    const ComponentSet all = ComponentSet::range(0, static_cast<Index>(s.dof));
+    NumericRule r{"project_constraints", Domain(kGQ, all) | Domain(kGV, all), {}, nullptr, layout};
+    r.step = [s, options](double dt, World& w) {
+        project_onto_constraints(s, w.time + dt, w.field(kGQ), w.field(kGV), options);
+    };
+    return r;
+}
+
+} // namespace phynjo::runtime
