@@ -148,3 +148,23 @@ TEST_CASE("lag diagnostics: what a first-time user writes", "[codegen][diagnosti
         CHECK(d.find("error:") != std::string::npos);
     }
 }
+
+// Bug caught: a constraint mistake that crashes, passes silently, or is reported without
+// its place and the earlier constraint it clashes with.
+TEST_CASE("lag diagnostics: constraints and inputs, with notes", "[codegen][diagnostics][constraints]") {
+    CHECK(diagnose("coordinates x, y\nlagrangian 1/2*(x'^2 + y'^2)\nconstraint rod: x^2 + y^2 = 1\n"
+                   "constraint again: 3*x^2 + 3*y^2 = 3\n") ==
+          "m.lag:4:12: error: constraint 'again' is redundant for every state: its row of the constraint matrix G is a "
+          "combination of the rows of the constraints before it (a constraint written twice, or implied by others)\n"
+          "    constraint again: 3*x^2 + 3*y^2 = 3\n               ^~~~~\n"
+          "m.lag:3:12: note: constraint 'rod' is here\n    constraint rod: x^2 + y^2 = 1\n               ^~~\n");
+    CHECK(diagnose("coordinates x, y\nlagrangian 1/2*(x'^2 + y'^2)\nconstraint c: x = 1\nconstraint c: y = 1\n") ==
+          "m.lag:4:12: error: a second constraint named 'c'\n    constraint c: y = 1\n               ^\n"
+          "m.lag:3:12: note: the first constraint 'c' is here\n    constraint c: x = 1\n               ^\n");
+    CHECK(diagnose("coordinates x, y\nlagrangian 1/2*(x'^2 + y'^2)\nconstraint skate: x'*y' = 0\n") ==
+          "m.lag:3:12: error: constraint 'skate' is not linear in the velocities: x' enters nonlinearly (a nonholonomic "
+          "constraint must be a(q, t)*q' + b(q, t) = 0)\n    constraint skate: x'*y' = 0\n               ^~~~~\n");
+    // accepted: holonomic, rheonomic and nonholonomic constraints, and an input in a force
+    CHECK(diagnose("coordinates x, y\ninput u = 0.5\nlagrangian 1/2*(x'^2 + y'^2)\nforce x = u\n"
+                   "constraint a: x = sin(t)\nconstraint b: x' + t*y' = 0\n") == "(accepted)");
+}

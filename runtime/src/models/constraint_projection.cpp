@@ -136,8 +136,10 @@ void check_constraints(const LagrangianSystem& s, double t, std::span<const doub
     const bool nonholonomic = !s.constraint_holonomic[v.constraint];
     char tol[32];
     std::snprintf(tol, sizeof tol, "%g", tolerance);
+    char when[32];
+    std::snprintf(when, sizeof when, "%g", t);
     throw InconsistentInitialValues(
-        "the state at t = " + std::to_string(t) + " violates constraint '" + name + "' " +
+        std::string("the state at t = ") + when + " violates constraint '" + name + "' " +
             (nonholonomic        ? "(nonholonomic): its residual is "
              : v.velocity_level ? "at velocity level: its time derivative is "
                                 : "at position level: its residual is ") +
