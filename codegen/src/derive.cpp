@@ -77,6 +77,17 @@ std::optional<std::size_t> identically_singular(const Model& model, const std::v
     return first_dependent_column(model, M, model.dof(), model.dof());
 }
 
+/// The summands of a sum (with their coefficients; the constant term too), or {e}.
+std::vector<Expr> summands(Expr e) {
+    if (e.kind() != cas::Kind::Add) return {e};
+    std::vector<Expr> out;
+    const auto args = e.args();
+    const auto coefs = cas::add_coefficients(e);
+    for (std::size_t i = 0; i < args.size(); ++i) out.push_back(coefs[i] * args[i]);
+    if (!cas::numeric_part(e).is_null() && !cas::numeric_part(e).is_zero()) out.push_back(cas::numeric_part(e));
+    return out;
+}
+
 /// Fills the constraint part of `eom` (lag-format.md, *Constraints*): G, γ, φ and φ'.
 void derive_constraints(const Model& model, const std::vector<Expr>& q, const std::vector<Expr>& qd,
                         EquationsOfMotion& eom) {
@@ -105,6 +116,8 @@ void derive_constraints(const Model& model, const std::vector<Expr>& q, const st
         eom.gamma.push_back(tidy(-cas::add(rest)));
         eom.residuals.push_back(tidy(c.phi));
         eom.velocity_residuals.push_back(tidy(level));
+        eom.residual_terms.push_back(summands(eom.residuals.back()));
+        eom.velocity_residual_terms.push_back(summands(eom.velocity_residuals.back()));
     }
 }
 

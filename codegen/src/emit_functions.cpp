@@ -106,12 +106,33 @@ std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const N
         rows("constraint_residuals", "phi", eom.residuals, true);
         rows("constraint_velocity_residuals", "psi", eom.velocity_residuals, true);
         rows("constraint_matrix", "G", eom.constraint_matrix, false);
+        {
+            // constraint_scales: Σ|summand| of each φ_k, then of each velocity constraint
+            std::vector<Expr> terms;
+            std::vector<std::size_t> count;
+            for (const auto* v : {&eom.residual_terms, &eom.velocity_residual_terms})
+                for (const auto& ts : *v) {
+                    terms.insert(terms.end(), ts.begin(), ts.end());
+                    count.push_back(ts.size());
+                }
+            const std::string bb = body(names, terms, res, uses_t, uses_p);
+            s << "void constraint_scales(const Parameters& P, double t, std::span<const double> q, std::span<const double> qdot,\n"
+              << "    std::span<double> scale) {\n"
+              << sizes("constraint_scales", {{"q", n}, {"qdot", n}, {"scale", 2 * mc}}) << unused(uses_t, uses_p) << bb;
+            std::size_t k = 0;
+            for (std::size_t r = 0; r < count.size(); ++r) {
+                s << "    scale[" << r << "] = ";
+                for (std::size_t j = 0; j < count[r]; ++j) s << (j ? " + " : "") << "std::fabs(" << res[k++] << ")";
+                s << ";\n";
+            }
+            s << "}\n\n";
+        }
     } else {
         s << "void accelerations_and_multipliers(const Parameters& P, double t, std::span<const double> q,\n"
           << "                                   std::span<const double> qdot, std::span<double> qddot,\n"
           << "                                   std::span<double> lambda) {\n"
           << sizes("accelerations_and_multipliers", {{"lambda", 0}}) << "    accelerations(P, t, q, qdot, qddot);\n}\n\n";
-        for (const char* fn : {"constraint_residuals", "constraint_velocity_residuals"})
+        for (const char* fn : {"constraint_residuals", "constraint_velocity_residuals", "constraint_scales"})
             s << "void " << fn << "(const Parameters& P, double t, std::span<const double> q, std::span<const double> qdot,\n"
               << "    std::span<double> out) {\n"
               << sizes(fn, {{"q", n}, {"qdot", n}, {"out", 0}}) << "    (void)P;\n    (void)t;\n}\n\n";

@@ -33,6 +33,8 @@ std::string emit_glue(const Model& m, bool mass_depends_on_velocities) {
       << "                                 std::span<double> phi) { constraint_residuals(P, t, q, v, phi); };\n"
       << "    s.constraint_velocity_residuals = [P](double t, std::span<const double> q, std::span<const double> v,\n"
       << "                                          std::span<double> psi) { constraint_velocity_residuals(P, t, q, v, psi); };\n"
+      << "    s.constraint_scales = [P](double t, std::span<const double> q, std::span<const double> v,\n"
+      << "                              std::span<double> scale) { constraint_scales(P, t, q, v, scale); };\n"
       << "    s.constraint_matrix = [P](double t, std::span<const double> q, std::span<double> G) {\n"
       << "        constraint_matrix(P, t, q, G);\n    };\n"
       << "    s.accelerations_and_multipliers = [P](double t, std::span<const double> q, std::span<const double> v,\n"

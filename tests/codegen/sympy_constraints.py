@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
 """Independent check of constrained models with SymPy's LagrangesMethod.
 
-For each .lag model with constraints (lag-format.md, *Constraints*), SymPy's
+For each .lag model with constraints (lag-format.md, *Constraints*; also inputs at their
+defaults, forces and a Rayleigh function, as generalized forces in LagrangesMethod's
+forcelist), SymPy's
 sympy.physics.mechanics.LagrangesMethod with hol_coneqs (constraints free of velocities)
 and nonhol_coneqs (the others) gives the augmented mass matrix and forcing of (q'', lambda);
 solved at random states (on the constraint manifold or not: neither side stabilizes), they
@@ -22,7 +24,7 @@ import sys
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from sympy_check import evaluate, t  # noqa: E402  (exits 1 without SymPy)
 import sympy as sp  # noqa: E402
-from sympy.physics.mechanics import LagrangesMethod  # noqa: E402
+from sympy.physics.mechanics import LagrangesMethod, Point, ReferenceFrame  # noqa: E402
 
 
 def statements(path):
@@ -40,7 +42,7 @@ def statements(path):
 
 def read(path):
     coords, env, defaults, hol, nonhol, order = [], {}, {}, [], [], []
-    name, L = None, 0
+    name, L, R, forces = None, 0, 0, {}
     for st in statements(path):
         kw, _, rest = st.partition(' ')
         if kw == 'model':
@@ -60,6 +62,11 @@ def read(path):
             env[n.strip()] = evaluate(value, env)
         elif kw == 'lagrangian':
             L = evaluate(rest, env)
+        elif kw == 'dissipation':
+            R = evaluate(rest, env)
+        elif kw == 'force':
+            fname, _, value = rest.partition('=')
+            forces[fname.strip()] = evaluate(value, env)
         elif kw == 'constraint':
             cname, _, eq = rest.partition(':')
             a, _, b = eq.partition('=')
@@ -67,7 +74,18 @@ def read(path):
             velocity = any(phi.has(sp.diff(q, t)) for q in coords)
             (nonhol if velocity else hol).append(phi)
             order.append(('n' if velocity else 'h', len(nonhol if velocity else hol) - 1))
-    return dict(name=name, coords=coords, defaults=defaults, L=L, hol=hol, nonhol=nonhol, order=order)
+    # generalized forces Q_i - dR/dq_i' as forces on points that move with q_i' along N.x
+    # (partial velocity 1 for q_i, 0 for the others): LagrangesMethod's forcelist
+    N = ReferenceFrame('N')
+    forcelist = []
+    for i, q in enumerate(coords):
+        Q = forces.get(str(q.func), 0) - sp.diff(R, sp.diff(q, t))
+        if Q != 0:
+            P = Point('P%d' % i)
+            P.set_vel(N, sp.diff(q, t) * N.x)
+            forcelist.append((P, Q * N.x))
+    return dict(name=name, coords=coords, defaults=defaults, L=L, hol=hol, nonhol=nonhol, order=order,
+                forcelist=forcelist, frame=N)
 
 
 def main():
@@ -77,7 +95,8 @@ def main():
     for path in models:
         d = read(path)
         coords, n = d['coords'], len(d['coords'])
-        lm = LagrangesMethod(d['L'], coords, hol_coneqs=d['hol'] or None, nonhol_coneqs=d['nonhol'] or None)
+        lm = LagrangesMethod(d['L'], coords, hol_coneqs=d['hol'] or None, nonhol_coneqs=d['nonhol'] or None,
+                             forcelist=d['forcelist'] or None, frame=d['frame'])
         lm.form_lagranges_equations()
         MM, F = lm.mass_matrix_full.subs(d['defaults']), lm.forcing_full.subs(d['defaults'])  # (q', q'', lambda)
         m = len(d['order'])

@@ -11,10 +11,12 @@
 #include "cartesian_double_pendulum.hpp"
 #include "cartesian_pendulum.hpp"
 #include "double_pendulum.hpp"
+#include "four_bar.hpp"
 #include "knife_edge.hpp"
 #include "nlink_cart_5.hpp"
 #include "pendulum.hpp"
 #include "rolling_disk.hpp"
+#include "slider_crank.hpp"
 #include "spring_pendulum.hpp"
 
 #include <cstdio>
@@ -76,6 +78,8 @@ int main(int argc, char** argv) {
     PHYNJO_PROBE(bead_on_rod)
     PHYNJO_PROBE(knife_edge)
     PHYNJO_PROBE(rolling_disk)
+    PHYNJO_PROBE(four_bar)
+    PHYNJO_PROBE(slider_crank)
     std::fprintf(stderr, "sympy_probe: unknown model '%s'\n", argv[1]);
     return 2;
 }

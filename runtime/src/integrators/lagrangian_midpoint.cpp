@@ -133,7 +133,7 @@ void midpoint_core(const LagrangianSystem& s, double t0, double dt, std::span<co
 void symmetric_projection_step(const LagrangianSystem& s, double t0, double dt, std::span<double> q,
                                std::span<double> v, const ProjectionOptions& opt, MidpointScratch& k) {
     const std::size_t n = s.dof, m = s.n_constraints, mh = detail::holonomic_count(s);
-    thread_local std::vector<double> G0, G1, qh, vh, qt, vt, q1, v1, mu_q, mu_v, phi, psi, rq, rv;
+    thread_local std::vector<double> G0, G1, qh, vh, qt, vt, q1, v1, mu_q, mu_v, phi, psi, rq, rv, sc;
     G0.assign(m * n, 0.0);
     G1.assign(m * n, 0.0);
     for (auto* x : {&qh, &vh, &qt, &vt, &q1, &v1}) x->assign(n, 0.0);
@@ -176,19 +176,15 @@ void symmetric_projection_step(const LagrangianSystem& s, double t0, double dt, 
         detail::add_constraint_directions(s, G1, false, mu_v, v1);
         s.constraint_residuals(t1, q1, v1, phi);
         s.constraint_velocity_residuals(t1, q1, v1, psi);
+        detail::constraint_scales(s, t1, q1, v1, sc);
         bool ok = true;
         std::size_t h = 0;
         for (std::size_t c = 0; c < m; ++c) {
-            double sq = 0, sv = 0;
-            for (std::size_t j = 0; j < n; ++j) {
-                sq += std::fabs(G1[c * n + j] * q1[j]);
-                sv += std::fabs(G1[c * n + j] * v1[j]);
-            }
             if (s.constraint_holonomic[c]) {
-                ok = ok && std::fabs(phi[c]) <= opt.tolerance * std::max(1.0, sq);
+                ok = ok && std::fabs(phi[c]) <= opt.tolerance * sc[c];
                 rq[h++] = -0.5 * phi[c];
             }
-            ok = ok && std::fabs(psi[c]) <= opt.tolerance * std::max(1.0, sv);
+            ok = ok && std::fabs(psi[c]) <= opt.tolerance * sc[m + c];
             rv[c] = -0.5 * psi[c];
             if (!std::isfinite(phi[c]) || !std::isfinite(psi[c]))
                 throw NonFiniteResult("implicit midpoint: constraint '" + s.constraint_names[c] +

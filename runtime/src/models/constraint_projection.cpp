@@ -81,15 +81,31 @@ void solve_gram(const LagrangianSystem& s, std::span<const double> G, bool holon
 
 } // namespace detail
 
-namespace {
+namespace detail {
 
-double row_scale(std::span<const double> G, std::size_t k, std::size_t n, std::span<const double> x) {
-    double s = 0;
-    for (std::size_t j = 0; j < n; ++j) s += std::fabs(G[k * n + j] * x[j]);
-    return std::max(1.0, s);
+void constraint_scales(const LagrangianSystem& s, double t, std::span<const double> q, std::span<const double> qdot,
+                       std::vector<double>& scale) {
+    const std::size_t m = s.n_constraints, n = s.dof;
+    scale.assign(2 * m, 0.0);
+    if (s.constraint_scales) s.constraint_scales(t, q, qdot, scale);
+    // the floor: 1e-3 Σ_j |G_kj| ‖x‖∞ (x = q, q'), what round-off in the whole state allows
+    thread_local std::vector<double> G;
+    G.assign(m * n, 0.0);
+    s.constraint_matrix(t, q, G);
+    double qmax = 0, vmax = 0;
+    for (std::size_t j = 0; j < n; ++j) {
+        qmax = std::max(qmax, std::fabs(q[j]));
+        vmax = std::max(vmax, std::fabs(qdot[j]));
+    }
+    for (std::size_t k = 0; k < m; ++k) {
+        double g = 0;
+        for (std::size_t j = 0; j < n; ++j) g += std::fabs(G[k * n + j]);
+        scale[k] += kScaleFloor * g * qmax;
+        scale[m + k] += kScaleFloor * g * vmax;
+    }
 }
 
-} // namespace
+} // namespace detail
 
 namespace {
 
@@ -98,16 +114,16 @@ ConstraintViolation worst_at_level(const LagrangianSystem& s, double t, std::spa
                                    std::span<const double> qdot, bool velocity) {
     ConstraintViolation worst;
     const std::size_t m = s.n_constraints, n = s.dof;
-    thread_local std::vector<double> G, r;
-    G.assign(m * n, 0.0);
+    (void)n;
+    thread_local std::vector<double> sc, r;
     r.assign(m, 0.0);
-    s.constraint_matrix(t, q, G);
+    detail::constraint_scales(s, t, q, qdot, sc);
     if (velocity) s.constraint_velocity_residuals(t, q, qdot, r);
     else s.constraint_residuals(t, q, qdot, r);
     bool first = true;
     for (std::size_t k = 0; k < m; ++k) {
         if (!velocity && !s.constraint_holonomic[k]) continue;
-        const double scaled = std::isfinite(r[k]) ? std::fabs(r[k]) / row_scale(G, k, n, velocity ? qdot : q) : HUGE_VAL;
+        const double scaled = detail::scaled_residual(r[k], sc[velocity ? m + k : k]);
         if (first || scaled > worst.scaled) worst = {k, velocity, r[k], scaled};
         first = false;
     }
@@ -152,13 +168,14 @@ void project_positions(const LagrangianSystem& s, double t, std::span<double> q,
                        const ProjectionOptions& options) {
     const std::size_t m = s.n_constraints, n = s.dof, mh = detail::holonomic_count(s);
     if (mh == 0) return;
-    thread_local std::vector<double> G, phi, r;
+    thread_local std::vector<double> G, phi, r, sc;
     G.assign(m * n, 0.0);
     phi.assign(m, 0.0);
     r.assign(mh, 0.0);
     for (int it = 0; it <= options.max_iterations; ++it) {
         s.constraint_matrix(t, q, G);
         s.constraint_residuals(t, q, qdot, phi);
+        detail::constraint_scales(s, t, q, qdot, sc);
         bool ok = true;
         std::size_t i = 0;
         for (std::size_t k = 0; k < m; ++k) {
@@ -166,7 +183,7 @@ void project_positions(const LagrangianSystem& s, double t, std::span<double> q,
             if (!std::isfinite(phi[k]))
                 throw NonFiniteResult("constraint projection: constraint '" + s.constraint_names[k] +
                                       "' is not finite at t = " + std::to_string(t));
-            ok = ok && std::fabs(phi[k]) <= options.tolerance * row_scale(G, k, n, q);
+            ok = ok && std::fabs(phi[k]) <= options.tolerance * sc[k];
             r[i++] = -phi[k];
         }
         if (ok) return;
@@ -182,17 +199,18 @@ void project_velocities(const LagrangianSystem& s, double t, std::span<const dou
                         const ProjectionOptions& options) {
     const std::size_t m = s.n_constraints, n = s.dof;
     if (m == 0) return;
-    thread_local std::vector<double> G, psi;
+    thread_local std::vector<double> G, psi, sc;
     G.assign(m * n, 0.0);
     psi.assign(m, 0.0);
     s.constraint_matrix(t, q, G);
     s.constraint_velocity_residuals(t, q, qdot, psi);
+    detail::constraint_scales(s, t, q, qdot, sc);
     bool ok = true;
     for (std::size_t k = 0; k < m; ++k) {
         if (!std::isfinite(psi[k]))
             throw NonFiniteResult("constraint projection: the velocity constraint of '" + s.constraint_names[k] +
                                   "' is not finite at t = " + std::to_string(t));
-        ok = ok && std::fabs(psi[k]) <= options.tolerance * row_scale(G, k, n, qdot);
+        ok = ok && std::fabs(psi[k]) <= options.tolerance * sc[m + k];
     }
     if (ok) return; // already on the manifold: left exactly as it is
     for (double& v : psi) v = -v;

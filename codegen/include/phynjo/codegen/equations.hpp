@@ -36,6 +36,9 @@ struct EquationsOfMotion {
     std::vector<cas::Expr> residuals;
     /// The velocity-level constraints: φ' = G q' + ∂φ/∂t (holonomic rows), φ (nonholonomic).
     std::vector<cas::Expr> velocity_residuals;
+    /// The summands of each φ_k and each velocity constraint: their absolute values summed
+    /// are the scale against which a residual counts as small (constraint_scales).
+    std::vector<std::vector<cas::Expr>> residual_terms, velocity_residual_terms;
 };
 
 /// Documented limits of the derivation.

@@ -11,20 +11,29 @@
 /// Integration, §IV.4 (standard projection). No allocation in a steady step.
 #include "phynjo/runtime/models/lagrangian_system.hpp"
 
+#include <cmath>
 #include <cstddef>
 #include <span>
 #include <string>
+#include <vector>
 
 namespace phynjo::runtime {
 
 /// Tolerances of the projections.
 struct ProjectionOptions {
-    /// A constraint counts as satisfied when |φ_i| ≤ tolerance·max(1, Σ_j |G_ij q_j|) at
-    /// position level, |ψ_i| ≤ tolerance·max(1, Σ_j |G_ij q'_j|) at velocity level.
+    /// A constraint counts as satisfied when |φ_i| ≤ tolerance·s_i at position level and
+    /// |ψ_i| ≤ tolerance·s'_i at velocity level, with s_i, s'_i the sums of the absolute
+    /// values of the terms of φ_i and ψ_i (the generated constraint_scales) — relative to the
+    /// size of what cancels (x² + y² − l² against x² + y² + l²) — plus the floor
+    /// kScaleFloor·Σ_j |G_ij|·max_j |x_j| (x = q, q'), for rows whose own terms vanish (a
+    /// body at rest while others move).
     double tolerance = 1e-12;
     /// Gauss–Newton iterations before the projection gives up (ConvergenceError).
     int max_iterations = 20;
 };
+
+/// The weight of the state's size in the scale of a residual (ProjectionOptions::tolerance).
+inline constexpr double kScaleFloor = 1e-3;
 
 /// The default relative tolerance of initial values (lag-format.md: 1e-9).
 inline constexpr double kInitialConstraintTolerance = 1e-9;
@@ -34,7 +43,7 @@ struct ConstraintViolation {
     std::size_t constraint = 0;  ///< index in file order
     bool velocity_level = false; ///< ψ (velocity level) rather than φ (position level)
     double residual = 0;         ///< φ_i or ψ_i
-    double scaled = 0;           ///< |residual| / max(1, Σ_j |G_ij x_j|), x = q or q'
+    double scaled = 0;           ///< |residual| / its scale (ProjectionOptions)
 };
 
 /// The largest scaled residual over the holonomic rows at position level and all rows at
@@ -79,6 +88,16 @@ void solve_gram(const LagrangianSystem& s, std::span<const double> G, bool holon
                 double t);
 /// The number of holonomic rows.
 std::size_t holonomic_count(const LagrangianSystem& s);
+/// The scales of the residuals (2·n_constraints; ones when the system has no
+/// constraint_scales).
+void constraint_scales(const LagrangianSystem& s, double t, std::span<const double> q, std::span<const double> qdot,
+                       std::vector<double>& scale);
+/// |r| / scale; 0 for r = 0, infinite for a non-finite r or r ≠ 0 at scale 0.
+inline double scaled_residual(double r, double scale) {
+    if (!std::isfinite(r)) return HUGE_VAL;
+    if (r == 0) return 0;
+    return scale > 0 ? std::fabs(r) / scale : HUGE_VAL;
+}
 } // namespace detail
 
 } // namespace phynjo::runtime

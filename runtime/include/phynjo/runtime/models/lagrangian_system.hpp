@@ -74,6 +74,10 @@ struct LagrangianSystem {
     /// The velocity-level constraints: φ' = G q' + ∂φ/∂t (holonomic rows), φ (nonholonomic rows).
     std::function<void(double t, std::span<const double> q, std::span<const double> qdot, std::span<double> psi)>
         constraint_velocity_residuals;
+    /// The scales of the residuals (2·n_constraints): Σ|terms| of each φ, then of each
+    /// velocity constraint.
+    std::function<void(double t, std::span<const double> q, std::span<const double> qdot, std::span<double> scale)>
+        constraint_scales;
     /// G (n_constraints×dof, row-major).
     std::function<void(double t, std::span<const double> q, std::span<double> G)> constraint_matrix;
     /// q'' and λ of M q'' = f + Gᵀλ, G q'' = γ (`accelerations` gives the same q'').
