@@ -106,6 +106,7 @@ std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const N
         rows("constraint_residuals", "phi", eom.residuals, true);
         rows("constraint_velocity_residuals", "psi", eom.velocity_residuals, true);
         rows("constraint_matrix", "G", eom.constraint_matrix, false);
+        rows("constraint_gamma", "gamma", eom.gamma, true);
         {
             // constraint_scales: Σ|summand| of each φ_k, then of each velocity constraint
             std::vector<Expr> terms;
@@ -132,7 +133,7 @@ std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const N
           << "                                   std::span<const double> qdot, std::span<double> qddot,\n"
           << "                                   std::span<double> lambda) {\n"
           << sizes("accelerations_and_multipliers", {{"lambda", 0}}) << "    accelerations(P, t, q, qdot, qddot);\n}\n\n";
-        for (const char* fn : {"constraint_residuals", "constraint_velocity_residuals", "constraint_scales"})
+        for (const char* fn : {"constraint_residuals", "constraint_velocity_residuals", "constraint_scales", "constraint_gamma"})
             s << "void " << fn << "(const Parameters& P, double t, std::span<const double> q, std::span<const double> qdot,\n"
               << "    std::span<double> out) {\n"
               << sizes(fn, {{"q", n}, {"qdot", n}, {"out", 0}}) << "    (void)P;\n    (void)t;\n}\n\n";

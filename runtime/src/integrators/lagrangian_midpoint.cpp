@@ -69,8 +69,13 @@ void velocities_from_momenta(const LagrangianSystem& s, double t, std::span<cons
 struct MidpointScratch {
     std::vector<double> q0, p0, qm, pm, vm, F, M, tmp, a, lambda, G;
     std::vector<std::size_t> perm;
+    /// The last solution (q1, p1, midpoint velocities), and whether the next solve starts from
+    /// it (the symmetric projection solves nearby problems in a row).
+    std::vector<double> q1_last, p1_last, vm_last;
+    bool warm = false;
     void size(std::size_t n, std::size_t m) {
-        for (auto* v : {&q0, &p0, &qm, &pm, &vm, &F, &tmp, &a}) v->assign(n, 0.0);
+        for (auto* v : {&q0, &p0, &qm, &pm, &vm, &F, &tmp, &a, &q1_last, &p1_last, &vm_last}) v->assign(n, 0.0);
+        warm = false;
         M.assign(n * n, 0.0);
         lambda.assign(m, 0.0);
         G.assign(m * n, 0.0);
@@ -91,10 +96,12 @@ void midpoint_core(const LagrangianSystem& s, double t0, double dt, std::span<co
     }
     s.momenta(t0, k.q0, v, k.p0);
     for (std::size_t i = 0; i < n; ++i) {
-        p1[i] = k.p0[i];
-        q1[i] = k.q0[i] + dt * k.vm[i];
+        p1[i] = k.warm ? k.p1_last[i] : k.p0[i];
+        q1[i] = k.warm ? k.q1_last[i] : k.q0[i] + dt * k.vm[i];
+        if (k.warm) k.vm[i] = k.vm_last[i];
     }
     bool converged = false;
+    double last_change = HUGE_VAL;
     for (int it = 0; it < 200 && !converged; ++it) {
         for (std::size_t i = 0; i < n; ++i) {
             k.qm[i] = 0.5 * (k.q0[i] + q1[i]);
@@ -116,40 +123,81 @@ void midpoint_core(const LagrangianSystem& s, double t0, double dt, std::span<co
             q1[i] = nq;
             p1[i] = np;
         }
-        converged = change <= 4e-16 * (1 + scale);
+        // converged at round-off; or stalled there (the iteration map rounds differently from
+        // one pass to the next: a few ulps of a large coordinate, a wound-up angle)
+        converged = change <= 4e-16 * (1 + scale) || (it >= 8 && change >= last_change && change <= 1e-13 * (1 + scale));
+        last_change = change;
     }
     if (!converged) throw ConvergenceError("implicit midpoint did not converge at t = " + std::to_string(t0) +
                                            " (step " + std::to_string(dt) + " too large?)");
+    for (std::size_t i = 0; i < n; ++i) {
+        k.q1_last[i] = q1[i];
+        k.p1_last[i] = p1[i];
+        k.vm_last[i] = k.vm[i];
+    }
     // the velocities at the end: from p1 at q1 (start Newton from the midpoint velocities)
     for (std::size_t i = 0; i < n; ++i) v1[i] = k.vm[i];
     velocities_from_momenta(s, t0 + dt, q1, p1, v1, k.M, k.tmp, k.perm);
 }
 
+/// Solves A x = b in place (A p×p row-major, overwritten) by LU with partial pivoting;
+/// false when A is singular.
+bool dense_solve(std::vector<double>& A, std::vector<double>& b, std::size_t p) {
+    double scale = 0;
+    for (double a : A) scale = std::max(scale, std::fabs(a));
+    for (std::size_t c = 0; c < p; ++c) {
+        std::size_t piv = c;
+        for (std::size_t i = c + 1; i < p; ++i)
+            if (std::fabs(A[i * p + c]) > std::fabs(A[piv * p + c])) piv = i;
+        if (!(std::fabs(A[piv * p + c]) > 1e-14 * scale)) return false;
+        if (piv != c) {
+            for (std::size_t j = 0; j < p; ++j) std::swap(A[c * p + j], A[piv * p + j]);
+            std::swap(b[c], b[piv]);
+        }
+        for (std::size_t i = c + 1; i < p; ++i) {
+            const double f = A[i * p + c] / A[c * p + c];
+            for (std::size_t j = c; j < p; ++j) A[i * p + j] -= f * A[c * p + j];
+            b[i] -= f * b[c];
+        }
+    }
+    for (std::size_t i = p; i-- > 0;) {
+        double x = b[i];
+        for (std::size_t j = i + 1; j < p; ++j) x -= A[i * p + j] * b[j];
+        b[i] = x / A[i * p + i];
+    }
+    return true;
+}
+
 /// The symmetric projection of Hairer (BIT 40, 2000) around midpoint_core, onto the
 /// manifold g(y) = (φ_h(q, t), ψ(q, q', t)) = 0 with the directions D(y) = diag(G_hᵀ, Gᵀ):
-///   ŷ0 = y0 + D(y0) μ,   ỹ1 = Φ_dt(ŷ0),   y1 = ỹ1 + D(y1) μ,   g(y1) = 0,
-/// solved for μ by simplified Newton (∂g(y1)/∂μ ≈ 2 g_y D, the off-diagonal block dropped).
-/// Symmetric because Φ is and D is the same function at both ends.
+///   ŷ0 = y0 + D(y0) μ,   ỹ1 = Φ_dt(ŷ0),   y1 = ỹ1 + D(y1) μ,   g(y1) = 0.
+/// Solved for μ by Broyden's method from the Jacobian estimate 2 g_y D ≈ 2 diag(G_h G_hᵀ,
+/// G Gᵀ) (exact for Φ = identity and ψ independent of q): the rank-one updates learn the
+/// rest — how the constrained flow moves ỹ1 with ŷ0 — which matters near singular
+/// configurations of a mechanism. Symmetric because Φ is and D is the same function at both ends.
 void symmetric_projection_step(const LagrangianSystem& s, double t0, double dt, std::span<double> q,
                                std::span<double> v, const ProjectionOptions& opt, MidpointScratch& k) {
-    const std::size_t n = s.dof, m = s.n_constraints, mh = detail::holonomic_count(s);
-    thread_local std::vector<double> G0, G1, qh, vh, qt, vt, q1, v1, mu_q, mu_v, phi, psi, rq, rv, sc;
+    const std::size_t n = s.dof, m = s.n_constraints, mh = detail::holonomic_count(s), p = mh + m;
+    thread_local std::vector<double> G0, G1, qh, vh, qt, vt, q1, v1, mu, phi, psi, r, r_old, step, J, A, x, sc;
     G0.assign(m * n, 0.0);
     G1.assign(m * n, 0.0);
-    for (auto* x : {&qh, &vh, &qt, &vt, &q1, &v1}) x->assign(n, 0.0);
-    mu_q.assign(mh, 0.0);
-    mu_v.assign(m, 0.0);
+    for (auto* z : {&qh, &vh, &qt, &vt, &q1, &v1}) z->assign(n, 0.0);
+    for (auto* z : {&mu, &r, &r_old, &step, &x}) z->assign(p, 0.0);
     phi.assign(m, 0.0);
     psi.assign(m, 0.0);
-    rq.assign(mh, 0.0);
-    rv.assign(m, 0.0);
+    J.assign(p * p, 0.0);
     const double t1 = t0 + dt;
     s.constraint_matrix(t0, q, G0);
-    for (std::size_t i = 0; i < n; ++i) {
-        q1[i] = q[i];
-        v1[i] = v[i];
-    }
     G1 = G0; // D(y1) starts at D(y0)
+    const std::span<const double> mu_q(mu.data(), mh), mu_v(mu.data() + mh, m);
+    auto end_point = [&] { // y1 = ỹ1 + D(y1) μ with D at the latest q1
+        for (std::size_t i = 0; i < n; ++i) {
+            q1[i] = qt[i];
+            v1[i] = vt[i];
+        }
+        detail::add_constraint_directions(s, G1, true, mu_q, q1);
+        detail::add_constraint_directions(s, G1, false, mu_v, v1);
+    };
     for (int it = 0;; ++it) {
         for (std::size_t i = 0; i < n; ++i) {
             qh[i] = q[i];
@@ -158,46 +206,70 @@ void symmetric_projection_step(const LagrangianSystem& s, double t0, double dt, 
         detail::add_constraint_directions(s, G0, true, mu_q, qh);
         detail::add_constraint_directions(s, G0, false, mu_v, vh);
         midpoint_core(s, t0, dt, qh, vh, qt, vt, k);
-        // y1 = ỹ1 + D(y1) μ: a fixed point in q1 (D depends on q1 only), two passes suffice
+        k.warm = true; // the next solve (a nearby start ŷ0) starts from this solution
+        // y1 = ỹ1 + D(y1) μ: a fixed point in q1 (D depends on q1 only; μ is small)
         for (int pass = 0; pass < 2; ++pass) {
-            for (std::size_t i = 0; i < n; ++i) {
-                q1[i] = qt[i];
-                v1[i] = vt[i];
-            }
-            detail::add_constraint_directions(s, G1, true, mu_q, q1);
-            detail::add_constraint_directions(s, G1, false, mu_v, v1);
+            end_point();
             s.constraint_matrix(t1, q1, G1);
         }
-        for (std::size_t i = 0; i < n; ++i) {
-            q1[i] = qt[i];
-            v1[i] = vt[i];
-        }
-        detail::add_constraint_directions(s, G1, true, mu_q, q1);
-        detail::add_constraint_directions(s, G1, false, mu_v, v1);
+        end_point();
         s.constraint_residuals(t1, q1, v1, phi);
         s.constraint_velocity_residuals(t1, q1, v1, psi);
         detail::constraint_scales(s, t1, q1, v1, sc);
         bool ok = true;
         std::size_t h = 0;
         for (std::size_t c = 0; c < m; ++c) {
-            if (s.constraint_holonomic[c]) {
-                ok = ok && std::fabs(phi[c]) <= opt.tolerance * sc[c];
-                rq[h++] = -0.5 * phi[c];
-            }
-            ok = ok && std::fabs(psi[c]) <= opt.tolerance * sc[m + c];
-            rv[c] = -0.5 * psi[c];
             if (!std::isfinite(phi[c]) || !std::isfinite(psi[c]))
                 throw NonFiniteResult("implicit midpoint: constraint '" + s.constraint_names[c] +
                                       "' is not finite at t = " + std::to_string(t1));
+            if (s.constraint_holonomic[c]) {
+                ok = ok && std::fabs(phi[c]) <= opt.tolerance * sc[c];
+                r[h++] = phi[c];
+            }
+            ok = ok && std::fabs(psi[c]) <= opt.tolerance * sc[m + c];
+            r[mh + c] = psi[c];
         }
         if (ok) break;
         if (it == opt.max_iterations)
             throw ConvergenceError("implicit midpoint: the symmetric projection did not converge at t = " +
                                    std::to_string(t0) + " (step " + std::to_string(dt) + " too large?)");
-        if (mh > 0) detail::solve_gram(s, G1, true, rq, t1);
-        detail::solve_gram(s, G1, false, rv, t1);
-        for (std::size_t c = 0; c < mh; ++c) mu_q[c] += rq[c];
-        for (std::size_t c = 0; c < m; ++c) mu_v[c] += rv[c];
+        if (it == 0) { // J0 = 2 diag(G_h G_hᵀ, G Gᵀ)
+            std::vector<std::size_t>& rows = k.perm; // reuse: the holonomic rows
+            rows.clear();
+            for (std::size_t c = 0; c < m; ++c)
+                if (s.constraint_holonomic[c]) rows.push_back(c);
+            std::fill(J.begin(), J.end(), 0.0);
+            for (std::size_t a = 0; a < p; ++a)
+                for (std::size_t b = 0; b < p; ++b) {
+                    const bool qa = a < mh, qb = b < mh;
+                    if (qa != qb) continue;
+                    const std::size_t ra = qa ? rows[a] : a - mh, rb = qb ? rows[b] : b - mh;
+                    double d = 0;
+                    for (std::size_t j = 0; j < n; ++j) d += G1[ra * n + j] * G1[rb * n + j];
+                    J[a * p + b] = 2 * d;
+                }
+        } else { // Broyden: J += (Δr − J s) sᵀ / sᵀs
+            double ss = 0;
+            for (std::size_t b = 0; b < p; ++b) ss += step[b] * step[b];
+            if (ss > 0)
+                for (std::size_t a = 0; a < p; ++a) {
+                    double js = 0;
+                    for (std::size_t b = 0; b < p; ++b) js += J[a * p + b] * step[b];
+                    const double u = (r[a] - r_old[a] - js) / ss;
+                    for (std::size_t b = 0; b < p; ++b) J[a * p + b] += u * step[b];
+                }
+        }
+        A = J;
+        for (std::size_t a = 0; a < p; ++a) x[a] = -r[a];
+        if (!dense_solve(A, x, p)) {
+            std::vector<std::string_view> names(s.constraint_names.begin(), s.constraint_names.end());
+            detail::throw_singular_constraints(G1.data(), m, n, names, "implicit midpoint (symmetric projection)", t1);
+        }
+        for (std::size_t a = 0; a < p; ++a) {
+            mu[a] += x[a];
+            step[a] = x[a];
+            r_old[a] = r[a];
+        }
     }
     for (std::size_t i = 0; i < n; ++i) {
         q[i] = q1[i];
