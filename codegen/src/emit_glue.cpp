@@ -46,8 +46,9 @@ std::string emit_glue(const Model& m, bool mass_depends_on_velocities) {
       << "                                          std::string_view integrator) {\n"
       << "    if (integrator == \"rk4\") return phynjo::runtime::lagrangian_rk4(system(P), world.layout_ptr());\n"
       << "    if (integrator == \"midpoint\") return phynjo::runtime::lagrangian_midpoint(system(P), world.layout_ptr());\n"
+      << "    if (integrator == \"rattle\") return phynjo::runtime::lagrangian_rattle(system(P), world.layout_ptr());\n"
       << "    throw std::invalid_argument(\"" << m.name
-      << "::workflow: unknown integrator '\" + std::string(integrator) + \"' (rk4 or midpoint)\");\n"
+      << "::workflow: unknown integrator '\" + std::string(integrator) + \"' (rk4, midpoint or rattle)\");\n"
       << "}\n\n} // namespace " << m.name << "\n";
     return s.str();
 }

@@ -97,8 +97,9 @@ std::string emit_header(const Model& m, bool mass_depends_on_velocities) {
       << "phynjo::runtime::LagrangianSystem system(const Parameters& P = {});\n"
       << "/// A world of the coordinates at the initial state.\n"
       << "phynjo::runtime::World make_world(const Parameters& P = {});\n"
-      << "/// The model as a workflow of rules, stepped by the runtime's interpreter: \"rk4\" or\n"
-      << "/// \"midpoint\" (energy-conserving). `world` must come from make_world.\n"
+      << "/// The model as a workflow of rules, stepped by the runtime's interpreter: \"rk4\",\n"
+      << "/// \"midpoint\" (symmetric: bounded energy error) or \"rattle\" (symplectic with holonomic\n"
+      << "/// constraints; not for nonholonomic ones). `world` must come from make_world.\n"
       << "phynjo::runtime::NumericWorkflow workflow(const Parameters& P, const phynjo::runtime::World& world,\n"
       << "                                          std::string_view integrator = \"rk4\");\n\n"
       << "} // namespace " << m.name << "\n";

@@ -32,7 +32,7 @@ echo "$eom" | grep -qx 'G(1,1) = 2\*x' && echo "$eom" | grep -qx "gamma(1) = -2\
 "$sim" --project-initial --t-end 0 >/dev/null 2>"$work/err" && grep -q "nothing changed" "$work/err" \
   && ok "--project-initial on a consistent state: nothing changed" || bad "--project-initial consistent: $(cat "$work/err")"
 
-for integ in rk4 dopri midpoint; do
+for integ in rk4 dopri midpoint rattle; do
   "$sim" --integrator $integ --t-end 5 -o "$work/$integ.csv" 2>"$work/err"
   worst=$(awk -F, 'NR > 1 { r = $2*$2 + $3*$3 - 1; if (r < 0) r = -r; if (r > w) w = r } END { printf "%.3g", w }' "$work/$integ.csv")
   awk -v w="$worst" 'BEGIN { exit !(w < 1e-11) }' && ok "$integ keeps x^2 + y^2 = 1 (worst $worst)" || bad "$integ: rod drift $worst"

@@ -3,6 +3,7 @@
 
 #include "phynjo/runtime/integrators/dormand_prince.hpp"
 #include "phynjo/runtime/integrators/lagrangian_midpoint.hpp"
+#include "phynjo/runtime/integrators/lagrangian_rattle.hpp"
 #include "phynjo/runtime/integrators/lagrangian_rk4.hpp"
 
 #include <algorithm>
@@ -40,7 +41,7 @@ void help(const char* prog, const ModelCommandLine& model, const LagrangianSyste
     std::string params, coords;
     for (const auto& [name, set] : model.parameters) params += (params.empty() ? "" : ", ") + std::string(name);
     for (const auto& n : sys.coordinate_names) coords += (coords.empty() ? "" : ", ") + n;
-    std::printf("usage: %s [--t-end T] [--dt DT] [--integrator rk4|dopri|midpoint] [--every K]\n"
+    std::printf("usage: %s [--t-end T] [--dt DT] [--integrator rk4|dopri|midpoint|rattle] [--every K]\n"
                 "          [--param NAME=VALUE]... [--init NAME=VALUE[,NAME'=VALUE]...]... [--output FILE]\n"
                 "          [--energy-tolerance TOL [--fail-on-drift]] [--project-initial]\n"
                 "          [--projection-tolerance TOL]\n"
@@ -49,7 +50,9 @@ void help(const char* prog, const ModelCommandLine& model, const LagrangianSyste
                 "  --t-end T              end time in s (default 10); the run ends exactly at T\n"
                 "  --dt DT                step in s (default 0.001); the last step is shortened to end at T\n"
                 "  --integrator NAME      rk4 (default), dopri (Dormand-Prince 5(4), adaptive between the\n"
-                "                         rows), or midpoint (symplectic: bounded energy error)\n"
+                "                         rows), midpoint (symplectic without constraints, symmetric with\n"
+                "                         them: bounded energy error), or rattle (symplectic with holonomic\n"
+                "                         constraints too)\n"
                 "  --every K              write every K-th step (default: about 5000 rows); the first and\n"
                 "                         the last row are always written; t is exactly k*DT\n"
                 "  --param NAME=VALUE     set a parameter (repeatable); parameters: %s\n"
@@ -146,8 +149,8 @@ int model_main(int argc, char** argv, const ModelCommandLine& model) {
         }
         if (!(dt > 0)) throw UsageError{"--dt must be positive"};
         if (!(t_end >= 0)) throw UsageError{"--t-end must not be negative"};
-        if (integrator != "rk4" && integrator != "dopri" && integrator != "midpoint")
-            throw UsageError{"--integrator must be rk4, dopri or midpoint, not '" + integrator + "'"};
+        if (integrator != "rk4" && integrator != "dopri" && integrator != "midpoint" && integrator != "rattle")
+            throw UsageError{"--integrator must be rk4, dopri, midpoint or rattle, not '" + integrator + "'"};
         if (fail_on_drift && !energy_tolerance) throw UsageError{"--fail-on-drift needs --energy-tolerance"};
     } catch (const UsageError& e) {
         std::fprintf(stderr, "%s: %s\n", argv[0], e.message.c_str());
@@ -251,8 +254,9 @@ int model_main(int argc, char** argv, const ModelCommandLine& model) {
             };
             for (long k = 1; k <= total; ++k) advance(step_to, k, target_of(k));
         } else {
-            Stepper stepper(integrator == "rk4" ? lagrangian_rk4(sys, w.layout_ptr(), projection)
-                                                : lagrangian_midpoint(sys, w.layout_ptr(), projection));
+            Stepper stepper(integrator == "rk4"        ? lagrangian_rk4(sys, w.layout_ptr(), projection)
+                            : integrator == "midpoint" ? lagrangian_midpoint(sys, w.layout_ptr(), projection)
+                                                       : lagrangian_rattle(sys, w.layout_ptr(), projection));
             for (long k = 1; k <= total; ++k) {
                 const double target = target_of(k);
                 advance([&](double, double h) { stepper.step(w, h); }, k, target);

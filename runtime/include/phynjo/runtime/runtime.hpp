@@ -35,6 +35,7 @@
 #include "phynjo/runtime/integrators/dormand_prince.hpp"
 #include "phynjo/runtime/integrators/forest_ruth.hpp"
 #include "phynjo/runtime/integrators/lagrangian_midpoint.hpp"
+#include "phynjo/runtime/integrators/lagrangian_rattle.hpp"
 #include "phynjo/runtime/integrators/lagrangian_rk4.hpp"
 #include "phynjo/runtime/integrators/leapfrog.hpp"
 #include "phynjo/runtime/integrators/nbody_leapfrog.hpp"

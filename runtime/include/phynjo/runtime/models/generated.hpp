@@ -4,5 +4,6 @@
 /// solve of M q'' = f, worlds of generalized coordinates, and the integrators for them.
 #include "phynjo/runtime/integrators/dormand_prince.hpp"
 #include "phynjo/runtime/integrators/lagrangian_midpoint.hpp"
+#include "phynjo/runtime/integrators/lagrangian_rattle.hpp"
 #include "phynjo/runtime/integrators/lagrangian_rk4.hpp"
 #include "phynjo/runtime/models/lagrangian_system.hpp"
