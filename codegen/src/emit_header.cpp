@@ -95,13 +95,19 @@ std::string emit_header(const Model& m, bool mass_depends_on_velocities) {
       << "/// The model for the runtime's integrators (lagrangian_rk4, lagrangian_midpoint,\n"
       << "/// DormandPrince45): a LagrangianSystem bound to these parameters.\n"
       << "phynjo::runtime::LagrangianSystem system(const Parameters& P = {});\n"
+      << "/// The model bound to *P (which must outlive it): a change of P between steps — an input\n"
+      << "/// set by a controller — takes effect at the next step.\n"
+      << "phynjo::runtime::LagrangianSystem live_system(const Parameters* P);\n"
       << "/// A world of the coordinates at the initial state.\n"
       << "phynjo::runtime::World make_world(const Parameters& P = {});\n"
       << "/// The model as a workflow of rules, stepped by the runtime's interpreter: \"rk4\",\n"
       << "/// \"midpoint\" (symmetric: bounded energy error) or \"rattle\" (symplectic with holonomic\n"
       << "/// constraints; not for nonholonomic ones). `world` must come from make_world.\n"
       << "phynjo::runtime::NumericWorkflow workflow(const Parameters& P, const phynjo::runtime::World& world,\n"
-      << "                                          std::string_view integrator = \"rk4\");\n\n"
+      << "                                          std::string_view integrator = \"rk4\");\n"
+      << "/// The same on live parameters (live_system): inputs changed between steps take effect.\n"
+      << "phynjo::runtime::NumericWorkflow live_workflow(const Parameters* P, const phynjo::runtime::World& world,\n"
+      << "                                               std::string_view integrator = \"rk4\");\n\n"
       << "} // namespace " << m.name << "\n";
     return h.str();
 }
