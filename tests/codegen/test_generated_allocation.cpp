@@ -1,5 +1,6 @@
 // Generated functions never allocate (generated-api.md): a counting global allocator.
 #include "double_pendulum.hpp"
+#include "four_bar.hpp"
 #include "nlink_cart_5.hpp"
 
 #include <catch2/catch.hpp>
@@ -34,4 +35,29 @@ TEST_CASE("generated functions do not allocate", "[codegen][allocation]") {
     }
     CHECK(allocations.load() - before == 0);
     CHECK(std::isfinite(e));
+}
+
+// Bug caught: a constrained solve, projection or implicit constrained step that allocates
+// in a steady step (scratch regrown every step).
+TEST_CASE("constrained models: generated functions and steady steps do not allocate", "[codegen][allocation]") {
+    using namespace phynjo::runtime;
+    const four_bar::Parameters P;
+    std::vector<double> q{0.1, 0.9, 1.7}, v{1, -0.5, -0.5}, a(3), lambda(2), G(6), phi(2), sc(4);
+    std::vector<World> worlds;
+    std::vector<Stepper> steppers;
+    const char* integrators[] = {"rk4", "midpoint", "rattle"};
+    for (int i = 0; i < 3; ++i) worlds.push_back(four_bar::make_world(P));
+    for (int i = 0; i < 3; ++i) steppers.emplace_back(four_bar::workflow(P, worlds[i], integrators[i]));
+    for (int i = 0; i < 3; ++i) steppers[i].step(worlds[i], 1e-3); // the first steps size the scratch
+    const long before = allocations.load();
+    for (int k = 0; k < 100; ++k) {
+        four_bar::accelerations_and_multipliers(P, 0, q, v, a, lambda);
+        four_bar::accelerations(P, 0, q, v, a);
+        four_bar::constraint_matrix(P, 0, q, G);
+        four_bar::constraint_residuals(P, 0, q, v, phi);
+        four_bar::constraint_scales(P, 0, q, v, sc);
+        for (int i = 0; i < 3; ++i) steppers[i].step(worlds[i], 1e-3);
+    }
+    CHECK(allocations.load() - before == 0);
+    CHECK(std::isfinite(worlds[2].at(kGQ, 0)));
 }

@@ -114,6 +114,7 @@ void symmetric_projection_step(const LagrangianSystem& s, double t0, double dt, 
     phi.assign(m, 0.0);
     psi.assign(m, 0.0);
     J.assign(p * p, 0.0);
+    A.reserve(p * p);
     const double t1 = t0 + dt;
     s.constraint_matrix(t0, q, G0);
     G1 = G0; // D(y1) starts at D(y0)
@@ -162,7 +163,7 @@ void symmetric_projection_step(const LagrangianSystem& s, double t0, double dt, 
             throw ConvergenceError("implicit midpoint: the symmetric projection did not converge at t = " +
                                    std::to_string(t0) + " (step " + std::to_string(dt) + " too large?)");
         if (it == 0) { // J0 = 2 diag(G_h G_hᵀ, G Gᵀ)
-            std::vector<std::size_t>& rows = k.perm; // reuse: the holonomic rows
+            thread_local std::vector<std::size_t> rows; // the holonomic rows
             rows.clear();
             for (std::size_t c = 0; c < m; ++c)
                 if (s.constraint_holonomic[c]) rows.push_back(c);

@@ -11,6 +11,23 @@
 
 namespace phynjo::runtime {
 
+namespace {
+
+/// The scratch of solve_gram, thread-local; reserved on entry to every projection (not only
+/// when a correction is first needed), so a steady step never allocates.
+struct GramScratch {
+    std::vector<std::size_t> rows;
+    std::vector<double> A;
+};
+GramScratch& gram_scratch(std::size_t m) {
+    thread_local GramScratch k;
+    k.rows.reserve(m);
+    k.A.reserve(m * m);
+    return k;
+}
+
+} // namespace
+
 namespace detail {
 
 std::size_t holonomic_count(const LagrangianSystem& s) {
@@ -33,8 +50,9 @@ void add_constraint_directions(const LagrangianSystem& s, std::span<const double
 void solve_gram(const LagrangianSystem& s, std::span<const double> G, bool holonomic_only, std::span<double> r,
                 double t) {
     const std::size_t n = s.dof;
-    thread_local std::vector<std::size_t> rows;
-    thread_local std::vector<double> A;
+    GramScratch& g = gram_scratch(s.n_constraints);
+    std::vector<std::size_t>& rows = g.rows;
+    std::vector<double>& A = g.A;
     rows.clear();
     for (std::size_t k = 0; k < s.n_constraints; ++k)
         if (!holonomic_only || s.constraint_holonomic[k]) rows.push_back(k);
@@ -168,6 +186,7 @@ void project_positions(const LagrangianSystem& s, double t, std::span<double> q,
                        const ProjectionOptions& options) {
     const std::size_t m = s.n_constraints, n = s.dof, mh = detail::holonomic_count(s);
     if (mh == 0) return;
+    (void)gram_scratch(m);
     thread_local std::vector<double> G, phi, r, sc;
     G.assign(m * n, 0.0);
     phi.assign(m, 0.0);
@@ -199,6 +218,7 @@ void project_velocities(const LagrangianSystem& s, double t, std::span<const dou
                         const ProjectionOptions& options) {
     const std::size_t m = s.n_constraints, n = s.dof;
     if (m == 0) return;
+    (void)gram_scratch(m);
     thread_local std::vector<double> G, psi, sc;
     G.assign(m * n, 0.0);
     psi.assign(m, 0.0);
