@@ -15,8 +15,8 @@
 
 #include <Eigen/Dense>
 
-#include <spawn.h>
-#include <sys/wait.h>
+#include "bench_util.hpp"
+
 #include <unistd.h>
 
 #include <algorithm>
@@ -29,7 +29,6 @@
 #include <string>
 #include <vector>
 
-extern char** environ;
 
 namespace {
 
@@ -56,18 +55,7 @@ std::string cartesian_chain(int n) {
     return s + "\n";
 }
 
-double run_seconds(std::vector<std::string> args) {
-    std::vector<char*> argv;
-    for (auto& a : args) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    const auto t0 = std::chrono::steady_clock::now();
-    pid_t pid;
-    if (posix_spawn(&pid, argv[0], nullptr, nullptr, argv.data(), environ) != 0) return -1;
-    int status = 0;
-    waitpid(pid, &status, 0);
-    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    return WIFEXITED(status) && WEXITSTATUS(status) == 0 ? s : -1;
-}
+using phynjo::bench::run_seconds;
 
 void compile_speed(int sympy_max_n) {
     const bool have_sympy = std::system("python3 -c 'import sympy' >/dev/null 2>&1") == 0;

@@ -7,8 +7,8 @@
 // Prints `ratio lagc_compile_N = SymPy time / phynjo time` and `ratio lagc_ops_N = SymPy
 // operations / phynjo operations` (above 1: phynjo emits fewer).
 //   usage: bench_lagc [--sympy-max-n N]   (default 20)
-#include <spawn.h>
-#include <sys/wait.h>
+#include "bench_util.hpp"
+
 #include <unistd.h>
 
 #include <algorithm>
@@ -18,7 +18,6 @@
 #include <string>
 #include <vector>
 
-extern char** environ;
 
 namespace {
 
@@ -27,19 +26,7 @@ std::string models(int n) {
                   : std::string(PHYNJO_SOURCE_DIR "/bench/nlink_cart_") + std::to_string(n) + ".lag";
 }
 
-/// Wall time of one run of `argv` (no shell in between: only the process itself is timed).
-double run_seconds(std::vector<std::string> args) {
-    std::vector<char*> argv;
-    for (auto& a : args) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    const auto t0 = std::chrono::steady_clock::now();
-    pid_t pid;
-    if (posix_spawn(&pid, argv[0], nullptr, nullptr, argv.data(), environ) != 0) return -1;
-    int status = 0;
-    waitpid(pid, &status, 0);
-    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    return WIFEXITED(status) && WEXITSTATUS(status) == 0 ? s : -1;
-}
+using phynjo::bench::run_seconds;
 
 /// Runs a command and returns the number after `key` in its output, or −1.
 double read_value(const std::string& cmd, const std::string& key) {

@@ -31,6 +31,21 @@ def count_file(path):
     return total
 
 
+def c_code(M, f, start):
+    """cse and C code of every entry of M and f, as PyDy prints it: seconds since `start`, the
+    operation count of the CSE'd expressions and the characters of C."""
+    from sympy.physics.mechanics import find_dynamicsymbols
+    # q_i(t), u_i(t) -> plain symbols, as PyDy does before printing code
+    dyn = sorted(find_dynamicsymbols(M) | find_dynamicsymbols(f), key=str)
+    plain = {x: sp.Symbol('s_%d' % k) for k, x in enumerate(dyn)}
+    exprs = [e.xreplace(plain) for e in list(M) + list(f)]
+    replacements, reduced = sp.cse(exprs)
+    code = [sp.ccode(e, assign_to=str(s)) for s, e in replacements] + [sp.ccode(e) for e in reduced]
+    elapsed = time.perf_counter() - start
+    ops = sum(sp.count_ops(e) for _, e in replacements) + sum(sp.count_ops(e) for e in reduced)
+    return elapsed, ops, sum(len(c) for c in code)
+
+
 def main():
     if sys.argv[1] == '--count':
         print('ops %d' % count_file(sys.argv[2]))
@@ -41,18 +56,10 @@ def main():
     kane = n_link_pendulum_on_cart(n, cart_force=True, joint_torques=False)
     M = kane.mass_matrix_full
     f = kane.forcing_full
-    # q_i(t), u_i(t) -> plain symbols, as PyDy does before printing code
-    from sympy.physics.mechanics import find_dynamicsymbols
-    dyn = sorted(find_dynamicsymbols(M) | find_dynamicsymbols(f), key=str)  # q, u and the force F
-    plain = {x: sp.Symbol('s_%d' % k) for k, x in enumerate(dyn)}
-    exprs = [e.xreplace(plain) for e in list(M) + list(f)]
-    replacements, reduced = sp.cse(exprs)
-    code = [sp.ccode(e, assign_to=str(s)) for s, e in replacements] + [sp.ccode(e) for e in reduced]
-    elapsed = time.perf_counter() - start
-    ops = sum(sp.count_ops(e) for _, e in replacements) + sum(sp.count_ops(e) for e in reduced)
+    elapsed, ops, chars = c_code(M, f, start)
     print('seconds %.6f' % elapsed)
     print('ops %d' % ops)
-    print('code_chars %d' % sum(len(c) for c in code))
+    print('code_chars %d' % chars)
 
 
 if __name__ == '__main__':

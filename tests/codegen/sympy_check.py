@@ -32,23 +32,26 @@ def to_python(expr):
     return re.sub(r"([A-Za-z_][A-Za-z0-9_]*)'", r"D(\1)", expr)
 
 
-def derive(path):
-    text = open(path).read()
-    # join lines inside parentheses, drop comments
-    statements, depth, cur = [], 0, ''
-    for line in text.splitlines():
+def statements(path):
+    """The statements of a .lag file: lines joined inside parentheses, comments dropped."""
+    out, depth, cur = [], 0, ''
+    for line in open(path).read().splitlines():
         line = line.split('#')[0]
         cur += ' ' + line
         depth += line.count('(') - line.count(')')
         if depth == 0:
             if cur.strip():
-                statements.append(cur.strip())
+                out.append(cur.strip())
             cur = ''
+    return out
+
+
+def derive(path):
     coords, params, env, defaults = [], {}, {}, {}
     L = R = 0
     model_name = None
     forces = {}
-    for st in statements:
+    for st in statements(path):
         kw, _, rest = st.partition(' ')
         if kw == 'model':
             model_name = rest.strip()

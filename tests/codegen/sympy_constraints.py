@@ -22,22 +22,9 @@ import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from sympy_check import evaluate, t  # noqa: E402  (exits 1 without SymPy)
+from sympy_check import evaluate, statements, t  # noqa: E402  (exits 1 without SymPy)
 import sympy as sp  # noqa: E402
 from sympy.physics.mechanics import LagrangesMethod, Point, ReferenceFrame  # noqa: E402
-
-
-def statements(path):
-    out, depth, cur = [], 0, ''
-    for line in open(path).read().splitlines():
-        line = line.split('#')[0]
-        cur += ' ' + line
-        depth += line.count('(') - line.count(')')
-        if depth == 0:
-            if cur.strip():
-                out.append(cur.strip())
-            cur = ''
-    return out
 
 
 def read(path):

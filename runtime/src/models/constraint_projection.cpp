@@ -58,42 +58,20 @@ void solve_gram(const LagrangianSystem& s, std::span<const double> G, bool holon
         if (!holonomic_only || s.constraint_holonomic[k]) rows.push_back(k);
     const std::size_t m = rows.size();
     A.assign(m * m, 0.0);
-    double scale = 0;
     for (std::size_t a = 0; a < m; ++a)
         for (std::size_t b = 0; b < m; ++b) {
             double v = 0;
             for (std::size_t j = 0; j < n; ++j) v += G[rows[a] * n + j] * G[rows[b] * n + j];
             A[a * m + b] = v;
-            scale = std::max(scale, std::fabs(v));
         }
-    // LU with partial pivoting, applied to r as it goes
-    for (std::size_t c = 0; c < m; ++c) {
-        std::size_t piv = c;
-        for (std::size_t i = c + 1; i < m; ++i)
-            if (std::fabs(A[i * m + c]) > std::fabs(A[piv * m + c])) piv = i;
-        if (!(std::fabs(A[piv * m + c]) > kSingularTolerance * scale)) {
-            std::vector<double> Gs(m * n);
-            std::vector<std::string_view> names;
-            for (std::size_t a = 0; a < m; ++a) {
-                for (std::size_t j = 0; j < n; ++j) Gs[a * n + j] = G[rows[a] * n + j];
-                names.emplace_back(s.constraint_names[rows[a]]);
-            }
-            throw_singular_constraints(Gs.data(), m, n, names, "constraint projection", t);
+    if (!dense_solve(A, r, m)) {
+        std::vector<double> Gs(m * n);
+        std::vector<std::string_view> names;
+        for (std::size_t a = 0; a < m; ++a) {
+            for (std::size_t j = 0; j < n; ++j) Gs[a * n + j] = G[rows[a] * n + j];
+            names.emplace_back(s.constraint_names[rows[a]]);
         }
-        if (piv != c) {
-            for (std::size_t j = 0; j < m; ++j) std::swap(A[c * m + j], A[piv * m + j]);
-            std::swap(r[c], r[piv]);
-        }
-        for (std::size_t i = c + 1; i < m; ++i) {
-            const double f = A[i * m + c] / A[c * m + c];
-            for (std::size_t j = c; j < m; ++j) A[i * m + j] -= f * A[c * m + j];
-            r[i] -= f * r[c];
-        }
-    }
-    for (std::size_t i = m; i-- > 0;) {
-        double x = r[i];
-        for (std::size_t j = i + 1; j < m; ++j) x -= A[i * m + j] * r[j];
-        r[i] = x / A[i * m + i];
+        throw_singular_constraints(Gs.data(), m, n, names, "constraint projection", t);
     }
 }
 

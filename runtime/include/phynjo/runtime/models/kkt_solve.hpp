@@ -53,6 +53,34 @@ inline std::vector<std::size_t> dependent_constraints(const double* G, std::size
     return {}; // G has full rank: M is what makes G M⁻¹ Gᵀ singular
 }
 
+/// Solves A x = b in place (A p×p row-major, overwritten; b becomes x) by LU with partial
+/// pivoting; false when A is singular (a pivot below 1e-14 times the largest entry).
+inline bool dense_solve(std::span<double> A, std::span<double> b, std::size_t p) {
+    double scale = 0;
+    for (double a : A) scale = std::max(scale, std::fabs(a));
+    for (std::size_t c = 0; c < p; ++c) {
+        std::size_t piv = c;
+        for (std::size_t i = c + 1; i < p; ++i)
+            if (std::fabs(A[i * p + c]) > std::fabs(A[piv * p + c])) piv = i;
+        if (!(std::fabs(A[piv * p + c]) > 1e-14 * scale)) return false;
+        if (piv != c) {
+            for (std::size_t j = 0; j < p; ++j) std::swap(A[c * p + j], A[piv * p + j]);
+            std::swap(b[c], b[piv]);
+        }
+        for (std::size_t i = c + 1; i < p; ++i) {
+            const double f = A[i * p + c] / A[c * p + c];
+            for (std::size_t j = c; j < p; ++j) A[i * p + j] -= f * A[c * p + j];
+            b[i] -= f * b[c];
+        }
+    }
+    for (std::size_t i = p; i-- > 0;) {
+        double x = b[i];
+        for (std::size_t j = i + 1; j < p; ++j) x -= A[i * p + j] * b[j];
+        b[i] = x / A[i * p + i];
+    }
+    return true;
+}
+
 [[noreturn]] inline void throw_singular_constraints(const double* G, std::size_t C, std::size_t N,
                                                     std::span<const std::string_view> names, std::string_view where,
                                                     double t) {
