@@ -66,6 +66,15 @@ Expr derive_compound(Expr e, Rec&& rec) {
         case Function::Tan: return mul({add({Expr(1), pow(e, Expr(2))}), du}); // 1 + tan²
         case Function::Exp: return mul({e, du});
         case Function::Log: return mul({du, pow(u, Expr(-1))});
+        case Function::Asin: return mul({du, pow(add({Expr(1), mul({Expr(-1), pow(u, Expr(2))})}), rational(-1, 2))});
+        case Function::Acos:
+            return mul({Expr(-1), du, pow(add({Expr(1), mul({Expr(-1), pow(u, Expr(2))})}), rational(-1, 2))});
+        case Function::Atan: return mul({du, pow(add({Expr(1), pow(u, Expr(2))}), Expr(-1))});
+        case Function::Sinh: return mul({cosh(u), du});
+        case Function::Cosh: return mul({sinh(u), du});
+        case Function::Tanh: return mul({add({Expr(1), mul({Expr(-1), pow(e, Expr(2))})}), du}); // 1 − tanh²
+        case Function::Abs: return mul({sign(u), du});
+        case Function::Sign: return Expr(0); // lag-format.md: sign' = 0
         }
         return Expr(0);
     }

@@ -39,6 +39,14 @@ T evaluate_impl(Expr e, const Bindings<T>& values, std::unordered_map<const Node
             case Function::Tan: r = std::tan(u); break;
             case Function::Exp: r = std::exp(u); break;
             case Function::Log: r = std::log(u); break;
+            case Function::Asin: r = std::asin(u); break;
+            case Function::Acos: r = std::acos(u); break;
+            case Function::Atan: r = std::atan(u); break;
+            case Function::Sinh: r = std::sinh(u); break;
+            case Function::Cosh: r = std::cosh(u); break;
+            case Function::Tanh: r = std::tanh(u); break;
+            case Function::Abs: r = std::fabs(u); break;
+            case Function::Sign: r = u > 0 ? T(1) : u < 0 ? T(-1) : T(0); break;
             }
             break;
         }

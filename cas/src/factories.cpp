@@ -28,6 +28,14 @@ std::string_view function_name(Function f) {
     case Function::Tan: return "tan";
     case Function::Exp: return "exp";
     case Function::Log: return "log";
+    case Function::Asin: return "asin";
+    case Function::Acos: return "acos";
+    case Function::Atan: return "atan";
+    case Function::Sinh: return "sinh";
+    case Function::Cosh: return "cosh";
+    case Function::Tanh: return "tanh";
+    case Function::Abs: return "abs";
+    case Function::Sign: return "sign";
     }
     return "?";
 }
@@ -518,6 +526,70 @@ Expr log(Expr x) {
     return function_node(Function::Log, x);
 }
 
+namespace {
+bool is_function(Expr x, Function f) { return x.kind() == Kind::Function && static_cast<Function>(x->sub) == f; }
+/// f(−x) = −f(x) for the odd functions: pulls the sign out of a negative-looking argument.
+Expr odd(Function f, Expr x, Expr (*self)(Expr)) {
+    if (negative_form(x)) return mul({make_int(-1), self(mul({make_int(-1), x}))});
+    return function_node(f, x);
+}
+} // namespace
+
+Expr asin(Expr x) {
+    if (x.is_zero()) return x;
+    if (x.kind() == Kind::Number && abs(x.value()) > 1) throw DomainError("asin of a number outside [-1, 1] is undefined");
+    if (x.is_one()) return mul({rational(1, 2), pi()});
+    return odd(Function::Asin, x, &asin);
+}
+
+Expr acos(Expr x) {
+    if (x.is_one()) return make_int(0);
+    if (x.kind() == Kind::Number && abs(x.value()) > 1) throw DomainError("acos of a number outside [-1, 1] is undefined");
+    if (x.is_zero()) return mul({rational(1, 2), pi()});
+    return function_node(Function::Acos, x);
+}
+
+Expr atan(Expr x) {
+    if (x.is_zero()) return x;
+    if (x.is_one()) return mul({rational(1, 4), pi()});
+    return odd(Function::Atan, x, &atan);
+}
+
+Expr sinh(Expr x) {
+    if (x.is_zero()) return x;
+    return odd(Function::Sinh, x, &sinh);
+}
+
+Expr cosh(Expr x) {
+    if (x.is_zero()) return make_int(1);
+    if (negative_form(x)) return cosh(mul({make_int(-1), x}));
+    return function_node(Function::Cosh, x);
+}
+
+Expr tanh(Expr x) {
+    if (x.is_zero()) return x;
+    return odd(Function::Tanh, x, &tanh);
+}
+
+Expr abs(Expr x) {
+    if (x.kind() == Kind::Number) return detail::num_sign(x) < 0 ? mul({make_int(-1), x}) : x;
+    if (x.kind() == Kind::Constant) return x; // π
+    if (negative_form(x)) return abs(mul({make_int(-1), x}));
+    if (is_function(x, Function::Abs)) return x;
+    // abs(c·u) = c·abs(u) for a number c > 0
+    if (x.kind() == Kind::Mul && !x->number.is_one()) return mul({x->number, abs(mul({pow(x->number, make_int(-1)), x}))});
+    return function_node(Function::Abs, x);
+}
+
+Expr sign(Expr x) {
+    if (x.kind() == Kind::Number) return make_int(detail::num_sign(x));
+    if (x.kind() == Kind::Constant) return make_int(1);
+    if (negative_form(x)) return mul({make_int(-1), sign(mul({make_int(-1), x}))});
+    if (is_function(x, Function::Sign)) return x;
+    if (x.kind() == Kind::Mul && !x->number.is_one()) return sign(mul({pow(x->number, make_int(-1)), x})); // sign(c·u), c > 0
+    return function_node(Function::Sign, x);
+}
+
 Expr function(Function f, Expr x) {
     switch (f) {
     case Function::Sin: return sin(x);
@@ -525,6 +597,14 @@ Expr function(Function f, Expr x) {
     case Function::Tan: return tan(x);
     case Function::Exp: return exp(x);
     case Function::Log: return log(x);
+    case Function::Asin: return asin(x);
+    case Function::Acos: return acos(x);
+    case Function::Atan: return atan(x);
+    case Function::Sinh: return sinh(x);
+    case Function::Cosh: return cosh(x);
+    case Function::Tanh: return tanh(x);
+    case Function::Abs: return abs(x);
+    case Function::Sign: return sign(x);
     }
     return x;
 }

@@ -145,13 +145,29 @@ private:
         }
     }
 
+    /// The LaTeX command of a function: \sin, \arcsin, \operatorname{sign}.
+    static std::string latex_function(Function f) {
+        switch (f) {
+        case Function::Asin: return "\\arcsin";
+        case Function::Acos: return "\\arccos";
+        case Function::Atan: return "\\arctan";
+        case Function::Sign: return "\\operatorname{sign}";
+        case Function::Abs: return "\\operatorname{abs}";
+        default: return "\\" + std::string(function_name(f));
+        }
+    }
+
     Out function(Expr x) {
         const Function f = static_cast<Function>(x->sub);
         Out a = print(x.args()[0]);
-        if (mode_ == Mode::Cpp) return {"std::" + std::string(function_name(f)) + "(" + a.s + ")", Prec::Atom};
+        if (mode_ == Mode::Cpp) {
+            if (f == Function::Sign) return {"(" + a.s + " > 0 ? 1.0 : " + a.s + " < 0 ? -1.0 : 0.0)", Prec::Atom};
+            return {"std::" + std::string(f == Function::Abs ? "fabs" : function_name(f)) + "(" + a.s + ")", Prec::Atom};
+        }
         if (mode_ == Mode::Latex) {
             if (f == Function::Exp) return {"e^{" + a.s + "}", Prec::Pow};
-            return {"\\" + std::string(function_name(f)) + "{\\left(" + a.s + " \\right)}", Prec::Atom};
+            if (f == Function::Abs) return {"\\left|" + a.s + "\\right|", Prec::Atom};
+            return {latex_function(f) + "{\\left(" + a.s + " \\right)}", Prec::Atom};
         }
         return {std::string(function_name(f)) + "(" + a.s + ")", Prec::Atom};
     }
@@ -180,10 +196,10 @@ private:
         }
         if (mode_ == Mode::Latex) {
             Out ex = print(e);
-            if (b.kind() == Kind::Function && e.is_integer() && !is_fn(b, Function::Exp)) {
+            if (b.kind() == Kind::Function && e.is_integer() && !is_fn(b, Function::Exp) && !is_fn(b, Function::Abs)) {
                 // \sin^{2}{\left(x \right)}
-                const std::string name(function_name(static_cast<Function>(b->sub)));
-                return {"\\" + name + "^{" + ex.s + "}{\\left(" + print(b.args()[0]).s + " \\right)}", Prec::Atom};
+                const std::string name = latex_function(static_cast<Function>(b->sub));
+                return {name + "^{" + ex.s + "}{\\left(" + print(b.args()[0]).s + " \\right)}", Prec::Atom};
             }
             return {wrap(base, Prec::Atom, true) + "^{" + ex.s + "}", Prec::Pow};
         }

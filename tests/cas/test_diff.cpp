@@ -43,6 +43,47 @@ TEST_CASE("derivatives match closed forms", "[cas][diff]") {
     CHECK_THROWS_AS(diff(parse("x"), parse("x^2")), Error);
 }
 
+// Bug caught: a wrong derivative rule of one of contract v2's functions (a sign, 1 + u²
+// for 1 − u², sign' taken as a delta), or a canonical rule that changes the value.
+TEST_CASE("contract v2 functions: derivatives, symmetries, values", "[cas][diff]") {
+    CHECK(d("asin(x)", "x") == parse("1/sqrt(1 - x^2)"));
+    CHECK(d("acos(x)", "x") == parse("-1/sqrt(1 - x^2)"));
+    CHECK(d("atan(x)", "x") == parse("1/(1 + x^2)"));
+    CHECK(d("sinh(x)", "x") == parse("cosh(x)"));
+    CHECK(d("cosh(x)", "x") == parse("sinh(x)"));
+    CHECK(d("tanh(x)", "x") == parse("1 - tanh(x)^2"));
+    CHECK(d("abs(x)", "x") == parse("sign(x)"));
+    CHECK(d("sign(x)", "x") == Expr(0));
+    CHECK(d("abs(x^2 - 1)", "x") == parse("2*x*sign(x^2 - 1)"));
+    // symmetries and exact values
+    CHECK(parse("asin(-x)") == parse("-asin(x)"));
+    CHECK(parse("atan(-x)") == parse("-atan(x)"));
+    CHECK(parse("sinh(-x) + tanh(-x)") == parse("-sinh(x) - tanh(x)"));
+    CHECK(parse("cosh(-x)") == parse("cosh(x)"));
+    CHECK(parse("abs(-2*x)") == parse("2*abs(x)"));
+    CHECK(parse("sign(-3*x)") == parse("-sign(x)"));
+    CHECK(parse("abs(abs(x)) + sign(sign(x))") == parse("abs(x) + sign(x)"));
+    CHECK(parse("asin(1) + acos(0) + atan(1)") == parse("5*pi/4"));
+    CHECK(parse("acos(1) + sinh(0) + tanh(0) + cosh(0) + abs(-3/2) + sign(-7)") == parse("3/2"));
+    CHECK_THROWS_AS(asin(Expr(2)), DomainError);
+    CHECK_THROWS_AS(acos(rational(-3, 2)), DomainError);
+    // numeric values against <cmath>, and the derivatives against central differences
+    const Expr x = symbol("x");
+    for (const char* f : {"asin", "acos", "atan", "sinh", "cosh", "tanh", "abs", "sign"}) {
+        const Expr e = parse((std::string(f) + "(x^3 - x/2)").c_str());
+        const Expr de = diff(e, x);
+        for (long double x0 : {-0.8L, -0.3L, 0.2L, 0.55L, 0.9L}) {
+            auto F = [&](long double v) { return evaluate_extended(e, {{x, v}}); };
+            const long double h = 1e-5L, fd = (F(x0 - 2 * h) - 8 * F(x0 - h) + 8 * F(x0 + h) - F(x0 + 2 * h)) / (12 * h);
+            INFO(f << " at " << static_cast<double>(x0));
+            CHECK(static_cast<double>(evaluate_extended(de, {{x, x0}})) == Approx(static_cast<double>(fd)).margin(1e-9));
+        }
+    }
+    const Bindings<double> at{{x, 0.3}};
+    CHECK(evaluate(parse("asin(x) + acos(x) + atan(x) + sinh(x) + cosh(x) + tanh(x) + abs(-x) + sign(-x)"), at) ==
+          Approx(std::asin(0.3) + std::acos(0.3) + std::atan(0.3) + std::sinh(0.3) + std::cosh(0.3) + std::tanh(0.3) + 0.3 - 1));
+}
+
 TEST_CASE("the product rule works on the flattened product", "[cas][diff]") {
     // d(u1 u2 u3 u4)/dx = Σ_i (Π_{j≠i} u_j) u_i' : one Mul per term, no nesting
     const Expr r = d("x^2*sin(x)*exp(x)*y", "x");

@@ -23,7 +23,7 @@ TEST_CASE("golden diagnostics", "[grammar][diagnostics]") {
         {"x + 1)", "in.txt:1:6: error: unmatched ')'\n    x + 1)\n         ^\n"},
         {"x * * y", "in.txt:1:5: error: expected an expression, found '*'\n    x * * y\n        ^\n"},
         {"foo(x)",
-         "in.txt:1:1: error: unknown function 'foo' (functions: sin, cos, tan, exp, log, sqrt; missing '*'?)\n"
+         "in.txt:1:1: error: unknown function 'foo' (functions: sin, cos, tan, exp, log, sqrt, asin, acos, atan, sinh, cosh, tanh, abs, sign; missing '*'?)\n"
          "    foo(x)\n    ^~~\n"},
         {"pi(x)", "in.txt:1:1: error: 'pi' is not a function (missing '*'?)\n    pi(x)\n    ^~\n"},
         {"sin + 1", "in.txt:1:1: error: 'sin' is a function: write sin(…)\n    sin + 1\n    ^~~\n"},

@@ -61,6 +61,15 @@ inline rc::Gen<Expr> gen_expr(int depth = 4) {
         {1, gen::map(sub, [](Expr e) { return safely([&] { return cas::tan(e); }, e); })},
         {1, gen::map(sub, [](Expr e) { return cas::exp(e); })},
         {1, gen::map(sub, [](Expr e) { return safely([&] { return cas::log(e); }, e); })},
+        // contract v2's functions
+        {1, gen::map(sub, [](Expr e) { return safely([&] { return cas::asin(e); }, e); })},
+        {1, gen::map(sub, [](Expr e) { return safely([&] { return cas::acos(e); }, e); })},
+        {1, gen::map(sub, [](Expr e) { return cas::atan(e); })},
+        {1, gen::map(sub, [](Expr e) { return cas::sinh(e); })},
+        {1, gen::map(sub, [](Expr e) { return cas::cosh(e); })},
+        {1, gen::map(sub, [](Expr e) { return cas::tanh(e); })},
+        {1, gen::map(sub, [](Expr e) { return cas::abs(e); })},
+        {1, gen::map(sub, [](Expr e) { return cas::sign(e); })},
     });
 }
 

@@ -41,7 +41,7 @@ namespace phynjo::cas {
 enum class Kind : std::uint8_t { Number, Constant, Symbol, TimeDerivative, Function, Pow, Mul, Add };
 
 /// Elementary functions of one argument.
-enum class Function : std::uint8_t { Sin, Cos, Tan, Exp, Log };
+enum class Function : std::uint8_t { Sin, Cos, Tan, Exp, Log, Asin, Acos, Atan, Sinh, Cosh, Tanh, Abs, Sign };
 
 /// Exact named constants.
 enum class Constant : std::uint8_t { Pi };
@@ -150,6 +150,16 @@ Expr cos(Expr x);
 Expr tan(Expr x);
 Expr exp(Expr x);
 Expr log(Expr x);
+/// (v2) asin, acos (|x| ≤ 1), atan, sinh, cosh, tanh; abs (derivative sign(x)) and sign
+/// (−1, 0 or 1; derivative 0).
+Expr asin(Expr x);
+Expr acos(Expr x);
+Expr atan(Expr x);
+Expr sinh(Expr x);
+Expr cosh(Expr x);
+Expr tanh(Expr x);
+Expr abs(Expr x);
+Expr sign(Expr x);
 /// The total time derivative `e'`, treating every symbol except `t` as a function of time:
 /// `x'` for a symbol, and the sum, product and chain rules for the rest (`(x^2)'` = `2*x*x'`).
 Expr time_derivative(Expr e);

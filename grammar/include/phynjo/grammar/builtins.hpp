@@ -17,12 +17,20 @@ struct BuiltinFunction {
 };
 
 /// The built-in functions, in the order messages list them.
-inline constexpr std::array<BuiltinFunction, 6> builtin_functions{{{"sin", &cas::sin},
-                                                                   {"cos", &cas::cos},
-                                                                   {"tan", &cas::tan},
-                                                                   {"exp", &cas::exp},
-                                                                   {"log", &cas::log},
-                                                                   {"sqrt", &cas::sqrt}}};
+inline constexpr std::array<BuiltinFunction, 14> builtin_functions{{{"sin", &cas::sin},
+                                                                    {"cos", &cas::cos},
+                                                                    {"tan", &cas::tan},
+                                                                    {"exp", &cas::exp},
+                                                                    {"log", &cas::log},
+                                                                    {"sqrt", &cas::sqrt},
+                                                                    {"asin", &cas::asin},
+                                                                    {"acos", &cas::acos},
+                                                                    {"atan", &cas::atan},
+                                                                    {"sinh", &cas::sinh},
+                                                                    {"cosh", &cas::cosh},
+                                                                    {"tanh", &cas::tanh},
+                                                                    {"abs", &cas::abs},
+                                                                    {"sign", &cas::sign}}};
 /// The built-in constants: time and π.
 inline constexpr std::array<std::string_view, 2> builtin_constants{"t", "pi"};
 
@@ -30,7 +38,7 @@ inline constexpr std::array<std::string_view, 2> builtin_constants{"t", "pi"};
 const BuiltinFunction* find_builtin_function(std::string_view name);
 /// True for every built-in name (constants and functions): such names cannot be declared.
 bool is_builtin(std::string_view name);
-/// "sin, cos, tan, exp, log, sqrt", for messages.
+/// "sin, cos, tan, exp, log, sqrt, asin, …", for messages.
 std::string builtin_function_list();
 
 } // namespace phynjo::grammar
