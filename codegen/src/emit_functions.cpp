@@ -58,6 +58,11 @@ std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const N
     vector_function("momenta", "p", eom.momenta);
     vector_function("generalized_forces", "F", eom.generalized_forces);
 
+    // M_ij (either triangle) among the results of a body whose first outputs are `upper`
+    auto Mij = [&](std::size_t i, std::size_t j) {
+        const std::size_t a = std::min(i, j), b = std::max(i, j);
+        return res[a * n - a * (a - 1) / 2 + (b - a)]; // row a of the upper triangle starts there
+    };
     const std::size_t mc = eom.n_constraints;
     if (mc > 0) {
         // accelerations_and_multipliers: M, f, G and γ from one CSE pass, then the KKT solve
@@ -66,11 +71,6 @@ std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const N
         all.insert(all.end(), eom.constraint_matrix.begin(), eom.constraint_matrix.end());
         all.insert(all.end(), eom.gamma.begin(), eom.gamma.end());
         const std::string b = body(names, all, res, uses_t, uses_p);
-        auto Mij = [&](std::size_t i, std::size_t j) {
-            for (std::size_t k = 0; k < upper_ij.size(); ++k)
-                if (upper_ij[k] == std::pair{std::min(i, j), std::max(i, j)}) return res[k];
-            return std::string("0.0");
-        };
         const std::size_t off_f = upper.size(), off_g = off_f + n, off_gamma = off_g + mc * n;
         s << "void accelerations_and_multipliers(const Parameters& P, double t, std::span<const double> q,\n"
           << "                                   std::span<const double> qdot, std::span<double> qddot,\n"
@@ -148,11 +148,6 @@ std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const N
         s << "void accelerations(const Parameters& P, double t, std::span<const double> q, std::span<const double> qdot,\n"
           << "                   std::span<double> qddot) {\n"
           << sizes("accelerations", {{"q", n}, {"qdot", n}, {"qddot", n}}) << unused(uses_t, uses_p) << b;
-        auto Mij = [&](std::size_t i, std::size_t j) {
-            for (std::size_t k = 0; k < upper_ij.size(); ++k)
-                if (upper_ij[k] == std::pair{std::min(i, j), std::max(i, j)}) return res[k];
-            return std::string("0.0");
-        };
         auto fi = [&](std::size_t i) { return res[upper.size() + i]; };
         if (n == 1) {
             s << "    const double m00 = " << Mij(0, 0) << ";\n"

@@ -27,10 +27,10 @@ struct MidpointScratch {
     std::vector<std::size_t> perm;
     /// The last solution (q1, p1, midpoint velocities), and whether the next solve starts from
     /// it (the symmetric projection solves nearby problems in a row).
-    std::vector<double> q1_last, p1_last, vm_last;
+    std::vector<double> q1_last, p1_last, vm_last, p1;
     bool warm = false;
     void size(std::size_t n, std::size_t m) {
-        for (auto* v : {&q0, &p0, &qm, &pm, &vm, &F, &tmp, &a, &q1_last, &p1_last, &vm_last}) v->assign(n, 0.0);
+        for (auto* v : {&q0, &p0, &qm, &pm, &vm, &F, &tmp, &a, &q1_last, &p1_last, &vm_last, &p1}) v->assign(n, 0.0);
         warm = false;
         M.assign(n * n, 0.0);
         lambda.assign(m, 0.0);
@@ -44,8 +44,7 @@ void midpoint_core(const LagrangianSystem& s, double t0, double dt, std::span<co
                    std::span<double> q1, std::span<double> v1, MidpointScratch& k) {
     const std::size_t n = s.dof, m = s.n_constraints;
     const double tm = t0 + 0.5 * dt;
-    thread_local std::vector<double> p1;
-    p1.assign(n, 0.0);
+    std::vector<double>& p1 = k.p1;
     for (std::size_t i = 0; i < n; ++i) {
         k.q0[i] = q[i];
         k.vm[i] = v[i];

@@ -87,7 +87,8 @@ void rattle_step(const LagrangianSystem& s, double t0, double h, std::span<doubl
         if (m == 0) break;
         velocities_from_momenta(s, t1, k.q1, k.ph, k.vh1, k.Mb, k.tmp, k.pb); // M(q1) factors for J0
         s.constraint_residuals(t1, k.q1, k.vh1, k.r);
-        detail::constraint_scales(s, t1, k.q1, k.vh1, k.sc);
+        s.constraint_matrix(t1, k.q1, k.G1);
+        detail::constraint_scales(s, t1, k.q1, k.vh1, k.G1, k.sc);
         bool ok = true;
         for (std::size_t c = 0; c < m; ++c) {
             if (!std::isfinite(k.r[c]))
@@ -97,7 +98,6 @@ void rattle_step(const LagrangianSystem& s, double t0, double h, std::span<doubl
         }
         if (ok) break;
         if (it == opt.max_iterations) no_convergence("the position constraints", t0, h);
-        s.constraint_matrix(t1, k.q1, k.G1);
         if (it == 0) { // J0 = (h²/4) G1 (M0⁻¹ + M1⁻¹) G0ᵀ
             for (std::size_t b = 0; b < m; ++b) {
                 for (std::size_t i = 0; i < n; ++i) k.col[i] = k.G0[b * n + i];
@@ -144,7 +144,7 @@ void rattle_step(const LagrangianSystem& s, double t0, double h, std::span<doubl
         velocities_from_momenta(s, t1, k.q1, k.p1, k.v1, k.Mb, k.tmp, k.pb);
         if (m == 0) break;
         s.constraint_velocity_residuals(t1, k.q1, k.v1, k.psi);
-        detail::constraint_scales(s, t1, k.q1, k.v1, k.sc);
+        detail::constraint_scales(s, t1, k.q1, k.v1, k.G1, k.sc);
         bool ok = true;
         for (std::size_t c = 0; c < m; ++c) ok = ok && std::fabs(k.psi[c]) <= opt.tolerance * k.sc[m + c];
         if (ok) break;

@@ -80,14 +80,11 @@ void solve_gram(const LagrangianSystem& s, std::span<const double> G, bool holon
 namespace detail {
 
 void constraint_scales(const LagrangianSystem& s, double t, std::span<const double> q, std::span<const double> qdot,
-                       std::vector<double>& scale) {
+                       std::span<const double> G, std::vector<double>& scale) {
     const std::size_t m = s.n_constraints, n = s.dof;
     scale.assign(2 * m, 0.0);
     if (s.constraint_scales) s.constraint_scales(t, q, qdot, scale);
     // the floor: 1e-3 Σ_j |G_kj| ‖x‖∞ (x = q, q'), what round-off in the whole state allows
-    thread_local std::vector<double> G;
-    G.assign(m * n, 0.0);
-    s.constraint_matrix(t, q, G);
     double qmax = 0, vmax = 0;
     for (std::size_t j = 0; j < n; ++j) {
         qmax = std::max(qmax, std::fabs(q[j]));
@@ -101,6 +98,14 @@ void constraint_scales(const LagrangianSystem& s, double t, std::span<const doub
     }
 }
 
+void constraint_scales(const LagrangianSystem& s, double t, std::span<const double> q, std::span<const double> qdot,
+                       std::vector<double>& scale) {
+    thread_local std::vector<double> G;
+    G.assign(s.n_constraints * s.dof, 0.0);
+    s.constraint_matrix(t, q, G);
+    constraint_scales(s, t, q, qdot, G, scale);
+}
+
 } // namespace detail
 
 namespace {
@@ -109,8 +114,7 @@ namespace {
 ConstraintViolation worst_at_level(const LagrangianSystem& s, double t, std::span<const double> q,
                                    std::span<const double> qdot, bool velocity) {
     ConstraintViolation worst;
-    const std::size_t m = s.n_constraints, n = s.dof;
-    (void)n;
+    const std::size_t m = s.n_constraints;
     thread_local std::vector<double> sc, r;
     r.assign(m, 0.0);
     detail::constraint_scales(s, t, q, qdot, sc);
@@ -172,7 +176,7 @@ void project_positions(const LagrangianSystem& s, double t, std::span<double> q,
     for (int it = 0; it <= options.max_iterations; ++it) {
         s.constraint_matrix(t, q, G);
         s.constraint_residuals(t, q, qdot, phi);
-        detail::constraint_scales(s, t, q, qdot, sc);
+        detail::constraint_scales(s, t, q, qdot, G, sc);
         bool ok = true;
         std::size_t i = 0;
         for (std::size_t k = 0; k < m; ++k) {
@@ -202,7 +206,7 @@ void project_velocities(const LagrangianSystem& s, double t, std::span<const dou
     psi.assign(m, 0.0);
     s.constraint_matrix(t, q, G);
     s.constraint_velocity_residuals(t, q, qdot, psi);
-    detail::constraint_scales(s, t, q, qdot, sc);
+    detail::constraint_scales(s, t, q, qdot, G, sc);
     bool ok = true;
     for (std::size_t k = 0; k < m; ++k) {
         if (!std::isfinite(psi[k]))

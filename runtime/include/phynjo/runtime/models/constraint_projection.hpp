@@ -88,8 +88,11 @@ void solve_gram(const LagrangianSystem& s, std::span<const double> G, bool holon
                 double t);
 /// The number of holonomic rows.
 std::size_t holonomic_count(const LagrangianSystem& s);
-/// The scales of the residuals (2·n_constraints; ones when the system has no
-/// constraint_scales).
+/// The scales of the residuals (2·n_constraints): the system's constraint_scales (0 when it
+/// has none) plus the floor kScaleFloor·Σ_j |G_kj|·max|x|, with `G` the constraint matrix at (t, q).
+void constraint_scales(const LagrangianSystem& s, double t, std::span<const double> q, std::span<const double> qdot,
+                       std::span<const double> G, std::vector<double>& scale);
+/// The same, evaluating G at (t, q).
 void constraint_scales(const LagrangianSystem& s, double t, std::span<const double> q, std::span<const double> qdot,
                        std::vector<double>& scale);
 /// |r| / scale; 0 for r = 0, infinite for a non-finite r or r ≠ 0 at scale 0.
