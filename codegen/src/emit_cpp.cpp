@@ -42,7 +42,7 @@ EmittedCpp emit_cpp(const Model& m, const EquationsOfMotion& raw, const EmitOpti
       << "                                    std::to_string(a.size()) + \" entries, expected \" + std::to_string(n));\n"
       << "}\n";
     s << emit_derived_parameters(m) << "} // namespace\n\n";
-    s << emit_functions(m, eom, Names(m)) << emit_glue(m, raw.mass_depends_on_velocities);
+    s << emit_functions(m, eom, Names(m)) << emit_jacobians(m, eom, Names(m)) << emit_glue(m, raw.mass_depends_on_velocities);
     if (options.main) s << emit_main(m);
     out.source = s.str();
     return out;

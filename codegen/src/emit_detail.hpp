@@ -7,6 +7,7 @@
 
 #include "phynjo/cas/cas.hpp"
 
+#include <algorithm>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -61,6 +62,9 @@ public:
         return {};
     }
     bool is_user(Expr v) const { return local_.count(v) > 0; }
+    /// Names `v` in generated code as the C++ expression `local` (read where it is used, no
+    /// load): the symbols of the Jacobians (acc[i], lambda[k], …).
+    void add_variable(Expr v, std::string local) { local_.emplace(v, std::move(local)); }
 
 private:
     std::unordered_map<Expr, std::string> local_, load_;
@@ -73,8 +77,22 @@ private:
 std::string body(const Names& names, const std::vector<Expr>& outputs, std::vector<std::string>& results,
                  bool& uses_t, bool& uses_params);
 
+/// The same, split in two: `early` computes what does not depend on any of `late_variables`
+/// (the temporaries in their order), `late` the rest; late outputs may use early temporaries.
+void body_split(const Names& names, const std::vector<Expr>& outputs, const std::vector<Expr>& late_variables,
+                std::vector<std::string>& results, std::string& early, std::string& late, bool& uses_t, bool& uses_params);
+
+/// Index of M_ij (either triangle) among the upper triangle of an n×n matrix listed row by row.
+inline std::size_t upper_index(std::size_t i, std::size_t j, std::size_t n) {
+    const std::size_t a = std::min(i, j), b = std::max(i, j);
+    return a * n - a * (a - 1) / 2 + (b - a); // row a of the upper triangle starts there
+}
+
 /// `(void)t;` and `(void)P;` for what a body does not use.
 std::string unused(bool uses_t, bool uses_params, bool has_t = true);
+
+/// rhs_jacobian and input_jacobian (generated-api.md v2) from the Jacobian part of `eom`.
+std::string emit_jacobians(const Model& m, const EquationsOfMotion& eom, Names names);
 
 /// The generated header: parameters, every declaration of generated-api.md.
 std::string emit_header(const Model& m, bool mass_depends_on_velocities);

@@ -59,10 +59,7 @@ std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const N
     vector_function("generalized_forces", "F", eom.generalized_forces);
 
     // M_ij (either triangle) among the results of a body whose first outputs are `upper`
-    auto Mij = [&](std::size_t i, std::size_t j) {
-        const std::size_t a = std::min(i, j), b = std::max(i, j);
-        return res[a * n - a * (a - 1) / 2 + (b - a)]; // row a of the upper triangle starts there
-    };
+    auto Mij = [&](std::size_t i, std::size_t j) { return res[upper_index(i, j, n)]; };
     const std::size_t mc = eom.n_constraints;
     if (mc > 0) {
         // accelerations_and_multipliers: M, f, G and γ from one CSE pass, then the KKT solve

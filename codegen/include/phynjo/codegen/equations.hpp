@@ -39,6 +39,20 @@ struct EquationsOfMotion {
     /// The summands of each φ_k and each velocity constraint: their absolute values summed
     /// are the scale against which a residual counts as small (constraint_scales).
     std::vector<std::vector<cas::Expr>> residual_terms, velocity_residual_terms;
+
+    // (v2) Jacobians of y' = (q', q'') with y = (q, q'), by implicit differentiation of the
+    // saddle-point system. With symbols â for q'' and λ̂ for λ,
+    //   r(y, â, λ̂) = f − M â + Gᵀλ̂ = 0,   c(y, â) = γ − G â = 0,
+    // so that at â = q'', λ̂ = λ
+    //   [M  −Gᵀ] [∂q''/∂y]   [∂r/∂y]
+    //   [G   0 ] [∂λ/∂y  ] = [∂c/∂y]
+    // — the matrix of the forward solve. Likewise for the inputs u.
+    std::vector<cas::Expr> acceleration_symbols; ///< â_i (named "@a<i>": no user name)
+    std::vector<cas::Expr> multiplier_symbols;   ///< λ̂_k ("@l<k>")
+    std::vector<cas::Expr> jacobian_r; ///< ∂r/∂y, row-major dof × 2·dof
+    std::vector<cas::Expr> jacobian_c; ///< ∂c/∂y, row-major n_constraints × 2·dof
+    std::vector<cas::Expr> input_r;    ///< ∂r/∂u, row-major dof × n_inputs
+    std::vector<cas::Expr> input_c;    ///< ∂c/∂u, row-major n_constraints × n_inputs
 };
 
 /// Documented limits of the derivation.

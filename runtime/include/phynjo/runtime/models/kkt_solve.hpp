@@ -107,47 +107,108 @@ inline bool dense_solve(std::span<double> A, std::span<double> b, std::size_t p)
 
 } // namespace detail
 
-/// q'' and λ of M q'' = f + Gᵀλ, G q'' = γ. `M` holds the lower triangle of the symmetric
-/// N×N mass matrix (row-major), `G` is C×N row-major. Throws SingularMassMatrix when M is
-/// singular, SingularConstraints (naming the constraints involved, from `names`) when
-/// G M⁻¹ Gᵀ is, NonFiniteResult for a non-finite result. `where` and `t` go into messages.
+/// The factored saddle-point matrix [M −Gᵀ; G 0] of a state, for solving
+///   M x − Gᵀλ = b,   G x = g
+/// for several right-hand sides (the accelerations, then the columns of a Jacobian by
+/// implicit differentiation): x = u + Yλ with u = M⁻¹b, Y = M⁻¹Gᵀ, and (G Y) λ = g − G u.
+/// `M` holds the lower triangle of the symmetric N×N mass matrix (row-major), `G` is C×N
+/// row-major; both must outlive the factor. Throws SingularMassMatrix when M is singular,
+/// SingularConstraints (naming the constraints involved, from `names`) when G M⁻¹ Gᵀ is;
+/// `where` and `t` go into messages. Fixed size, no allocation in the regular case.
+template <std::size_t N, std::size_t C>
+class KktFactor {
+public:
+    KktFactor(const double* M, const double* G, const std::array<std::string_view, C>& names, std::string_view where,
+              double t)
+        : m_(M), G_(G), s_(schur(names, where, t)) {}
+
+    /// x (N) and λ (C) for the right-hand side b (N), g (C).
+    void solve(const double* b, const double* g, double* x, double* lambda) const {
+        double u[N], r[C];
+        for (std::size_t i = 0; i < N; ++i) u[i] = b[i];
+        m_.solve(u);
+        for (std::size_t a = 0; a < C; ++a) {
+            double ga = g[a];
+            for (std::size_t i = 0; i < N; ++i) ga -= G_[a * N + i] * u[i];
+            r[a] = ga;
+        }
+        s_.solve(r);
+        for (std::size_t i = 0; i < N; ++i) {
+            double v = u[i];
+            for (std::size_t k = 0; k < C; ++k) v += Y_[k][i] * r[k];
+            x[i] = v;
+        }
+        for (std::size_t k = 0; k < C; ++k) lambda[k] = r[k];
+    }
+
+    /// The same for `cols` right-hand sides at once: B (N×cols) and Gc (C×cols) row-major
+    /// give X (N×cols) row-major.
+    void solve_columns(std::size_t cols, const double* B, const double* Gc, double* X) const {
+        for (std::size_t j = 0; j < cols; ++j) {
+            double b[N], g[C], x[N], l[C];
+            for (std::size_t i = 0; i < N; ++i) b[i] = B[i * cols + j];
+            for (std::size_t k = 0; k < C; ++k) g[k] = Gc[k * cols + j];
+            solve(b, g, x, l);
+            for (std::size_t i = 0; i < N; ++i) X[i * cols + j] = x[i];
+        }
+    }
+
+private:
+    SymmetricFactor<C> schur(const std::array<std::string_view, C>& names, std::string_view where, double t) {
+        for (std::size_t k = 0; k < C; ++k) {
+            for (std::size_t i = 0; i < N; ++i) Y_[k][i] = G_[k * N + i];
+            m_.solve(Y_[k]);
+        }
+        double S[C * C];
+        for (std::size_t a = 0; a < C; ++a)
+            for (std::size_t b = 0; b <= a; ++b) {
+                double s = 0;
+                for (std::size_t i = 0; i < N; ++i) s += G_[a * N + i] * Y_[b][i];
+                S[a * C + b] = s;
+            }
+        try {
+            return SymmetricFactor<C>(S);
+        } catch (const SingularMassMatrix&) {
+            detail::throw_singular_constraints(G_, C, N, names, where, t);
+        }
+    }
+
+    SymmetricFactor<N> m_;
+    const double* G_;
+    double Y_[C][N];
+    SymmetricFactor<C> s_;
+};
+
+/// Without constraints: M x = b.
+template <std::size_t N>
+class KktFactor<N, 0> {
+public:
+    explicit KktFactor(const double* M) : m_(M) {}
+    void solve(const double* b, const double*, double* x, double*) const {
+        for (std::size_t i = 0; i < N; ++i) x[i] = b[i];
+        m_.solve(x);
+    }
+    void solve_columns(std::size_t cols, const double* B, const double*, double* X) const {
+        for (std::size_t j = 0; j < cols; ++j) {
+            double x[N];
+            for (std::size_t i = 0; i < N; ++i) x[i] = B[i * cols + j];
+            m_.solve(x);
+            for (std::size_t i = 0; i < N; ++i) X[i * cols + j] = x[i];
+        }
+    }
+
+private:
+    SymmetricFactor<N> m_;
+};
+
+/// q'' and λ of M q'' = f + Gᵀλ, G q'' = γ (KktFactor), checked finite: NonFiniteResult
+/// otherwise.
 template <std::size_t N, std::size_t C>
 inline void solve_constrained(const double (&M)[N * N], const double (&f)[N], const double (&G)[C * N],
                               const double (&gamma)[C], std::span<double> qddot, std::span<double> lambda,
                               const std::array<std::string_view, C>& names, std::string_view where, double t) {
-    const SymmetricFactor<N> m(M);
-    double u[N], Y[C][N];
-    for (std::size_t i = 0; i < N; ++i) u[i] = f[i];
-    m.solve(u);
-    for (std::size_t k = 0; k < C; ++k) {
-        for (std::size_t i = 0; i < N; ++i) Y[k][i] = G[k * N + i];
-        m.solve(Y[k]);
-    }
-    double S[C * C], r[C];
-    for (std::size_t a = 0; a < C; ++a) {
-        double ga = gamma[a];
-        for (std::size_t i = 0; i < N; ++i) ga -= G[a * N + i] * u[i];
-        r[a] = ga;
-        for (std::size_t b = 0; b <= a; ++b) {
-            double s = 0;
-            for (std::size_t i = 0; i < N; ++i) s += G[a * N + i] * Y[b][i];
-            S[a * C + b] = s;
-        }
-    }
-    bool singular = false;
-    try {
-        const SymmetricFactor<C> s(S);
-        s.solve(r);
-    } catch (const SingularMassMatrix&) {
-        singular = true;
-    }
-    if (singular) detail::throw_singular_constraints(G, C, N, names, where, t);
-    for (std::size_t i = 0; i < N; ++i) {
-        double a = u[i];
-        for (std::size_t k = 0; k < C; ++k) a += Y[k][i] * r[k];
-        qddot[i] = a;
-    }
-    for (std::size_t k = 0; k < C; ++k) lambda[k] = r[k];
+    const KktFactor<N, C> kkt(M, G, names, where, t);
+    kkt.solve(f, gamma, qddot.data(), lambda.data());
     for (std::size_t i = 0; i < N; ++i)
         if (!std::isfinite(qddot[i]))
             throw NonFiniteResult(std::string(where) + ": non-finite result at t = " + std::to_string(t));

@@ -1,0 +1,99 @@
+// rhs_jacobian and input_jacobian (generated-api.md v2): M, f, G, γ and the entries of
+// ∂r/∂(y, u), ∂c/∂(y, u) from one CSE pass, split where the entries need q'' and λ: the
+// saddle-point matrix is factored once, solved for q'' and λ, then for every column
+// (equations.hpp: implicit differentiation).
+#include "emit_detail.hpp"
+
+#include <sstream>
+
+namespace phynjo::codegen::detail {
+
+namespace {
+
+/// One Jacobian function: `fn` fills `out` ((2·dof)×cols, row-major) from ∂r (dof×cols) and
+/// ∂c (n_constraints×cols); the top rows are `top` (the identity block of ∂q'/∂q' for
+/// rhs_jacobian, zero for input_jacobian).
+void emit_one(std::ostringstream& s, const Model& m, const EquationsOfMotion& eom, const Names& names, const char* fn,
+              const char* out, std::size_t cols, const std::vector<Expr>& dr, const std::vector<Expr>& dc, bool identity_top) {
+    const std::size_t n = eom.dof, mc = eom.n_constraints;
+    const std::string size_checks = "    check_size(q, " + std::to_string(n) + ", \"" + fn + "\", \"q\");\n" +
+                                    "    check_size(qdot, " + std::to_string(n) + ", \"" + fn + "\", \"qdot\");\n" +
+                                    "    check_size(" + out + ", " + std::to_string(2 * n * cols) + ", \"" + fn + "\", \"" +
+                                    out + "\");\n";
+    s << "void " << fn << "(const Parameters& P, double t, std::span<const double> q, std::span<const double> qdot,\n"
+      << "    std::span<double> " << out << ") {\n"
+      << size_checks;
+    if (cols == 0) {
+        s << "    (void)P;\n    (void)t;\n}\n\n";
+        return;
+    }
+    std::vector<Expr> all;
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t j = i; j < n; ++j) all.push_back(eom.mass_matrix[i * n + j]);
+    const std::size_t off_f = all.size();
+    all.insert(all.end(), eom.forcing.begin(), eom.forcing.end());
+    const std::size_t off_g = all.size();
+    all.insert(all.end(), eom.constraint_matrix.begin(), eom.constraint_matrix.end());
+    const std::size_t off_gamma = all.size();
+    all.insert(all.end(), eom.gamma.begin(), eom.gamma.end());
+    const std::size_t off_r = all.size();
+    all.insert(all.end(), dr.begin(), dr.end());
+    const std::size_t off_c = all.size();
+    all.insert(all.end(), dc.begin(), dc.end());
+    std::vector<Expr> late = eom.acceleration_symbols;
+    late.insert(late.end(), eom.multiplier_symbols.begin(), eom.multiplier_symbols.end());
+    std::vector<std::string> res;
+    std::string early, later;
+    bool uses_t = false, uses_p = false;
+    body_split(names, all, late, res, early, later, uses_t, uses_p);
+    const std::string where = m.name + "::" + fn;
+    s << unused(true, uses_p) << early; // t is in the error messages
+    auto array = [&](const char* name, std::size_t len, auto&& entry) {
+        s << "    const double " << name << "[" << len << "] = {";
+        for (std::size_t k = 0; k < len; ++k) s << (k ? ", " : "") << entry(k);
+        s << "};\n";
+    };
+    array("M", n * n, [&](std::size_t k) {
+        const std::size_t i = k / n, j = k % n;
+        return j <= i ? res[upper_index(i, j, n)] : std::string("0.0");
+    });
+    array("f", n, [&](std::size_t i) { return res[off_f + i]; });
+    if (mc > 0) {
+        array("G", mc * n, [&](std::size_t k) { return res[off_g + k]; });
+        array("gamma", mc, [&](std::size_t k) { return res[off_gamma + k]; });
+        s << "    const phynjo::runtime::KktFactor<" << n << ", " << mc << "> kkt(M, G, constraint_names, \"" << where
+          << "\", t);\n"
+          << "    double acc[" << n << "], lambda[" << mc << "];\n"
+          << "    kkt.solve(f, gamma, acc, lambda);\n";
+    } else {
+        s << "    const phynjo::runtime::KktFactor<" << n << ", 0> kkt(M);\n"
+          << "    double acc[" << n << "];\n"
+          << "    kkt.solve(f, nullptr, acc, nullptr);\n";
+    }
+    s << later;
+    array("dr", n * cols, [&](std::size_t k) { return res[off_r + k]; });
+    if (mc > 0) array("dc", mc * cols, [&](std::size_t k) { return res[off_c + k]; });
+    s << "    for (std::size_t k = 0; k < " << n * cols << "; ++k) " << out << "[k] = 0.0;\n";
+    if (identity_top) s << "    for (std::size_t i = 0; i < " << n << "; ++i) " << out << "[i * " << cols << " + " << n << " + i] = 1.0;\n";
+    s << "    kkt.solve_columns(" << cols << ", dr, " << (mc > 0 ? "dc" : "nullptr") << ", " << out << ".data() + " << n * cols
+      << ");\n"
+      << "    for (std::size_t k = " << n * cols << "; k < " << 2 * n * cols << "; ++k)\n"
+      << "        if (!std::isfinite(" << out << "[k])) throw phynjo::runtime::NonFiniteResult(\"" << where
+      << ": non-finite result at t = \" + std::to_string(t));\n"
+      << "}\n\n";
+}
+
+} // namespace
+
+std::string emit_jacobians(const Model& m, const EquationsOfMotion& eom, Names names) {
+    for (std::size_t i = 0; i < eom.acceleration_symbols.size(); ++i)
+        names.add_variable(eom.acceleration_symbols[i], "acc[" + std::to_string(i) + "]");
+    for (std::size_t k = 0; k < eom.multiplier_symbols.size(); ++k)
+        names.add_variable(eom.multiplier_symbols[k], "lambda[" + std::to_string(k) + "]");
+    std::ostringstream s;
+    emit_one(s, m, eom, names, "rhs_jacobian", "J", 2 * eom.dof, eom.jacobian_r, eom.jacobian_c, true);
+    emit_one(s, m, eom, names, "input_jacobian", "B", m.n_inputs(), eom.input_r, eom.input_c, false);
+    return s.str();
+}
+
+} // namespace phynjo::codegen::detail
