@@ -121,50 +121,6 @@ void derive_constraints(const Model& model, const std::vector<Expr>& q, const st
     }
 }
 
-/// Fills the Jacobian part of `eom` (see EquationsOfMotion): ∂r/∂y, ∂c/∂y, ∂r/∂u, ∂c/∂u.
-/// r and c are linear in â and λ̂, so each entry is a small sum; only nodes that contain the
-/// variable are visited (the atom masks), and the derivatives of shared subexpressions are
-/// memoized across rows.
-void derive_jacobians(const Model& model, const std::vector<Expr>& q, const std::vector<Expr>& qd,
-                      EquationsOfMotion& eom) {
-    const std::size_t n = eom.dof, m = eom.n_constraints;
-    std::vector<Expr> y = q;
-    y.insert(y.end(), qd.begin(), qd.end());
-    for (std::size_t i = 0; i < n; ++i) eom.acceleration_symbols.push_back(cas::symbol("@a" + std::to_string(i)));
-    for (std::size_t k = 0; k < m; ++k) eom.multiplier_symbols.push_back(cas::symbol("@l" + std::to_string(k)));
-    const auto& a = eom.acceleration_symbols;
-    const auto& l = eom.multiplier_symbols;
-    std::vector<Expr> r(n), c(m);
-    for (std::size_t i = 0; i < n; ++i) {
-        std::vector<Expr> terms{eom.forcing[i]};
-        for (std::size_t k = 0; k < n; ++k) terms.push_back(-(eom.mass_matrix[i * n + k] * a[k]));
-        for (std::size_t k = 0; k < m; ++k) terms.push_back(eom.constraint_matrix[k * n + i] * l[k]);
-        r[i] = cas::add(terms);
-    }
-    for (std::size_t k = 0; k < m; ++k) {
-        std::vector<Expr> terms{eom.gamma[k]};
-        for (std::size_t i = 0; i < n; ++i) terms.push_back(-(eom.constraint_matrix[k * n + i] * a[i]));
-        c[k] = cas::add(terms);
-    }
-    eom.jacobian_r.resize(n * 2 * n);
-    eom.jacobian_c.resize(m * 2 * n);
-    for (std::size_t j = 0; j < 2 * n; ++j) {
-        for (std::size_t i = 0; i < n; ++i) eom.jacobian_r[i * 2 * n + j] = cas::diff(r[i], y[j]);
-        for (std::size_t k = 0; k < m; ++k) eom.jacobian_c[k * 2 * n + j] = cas::diff(c[k], y[j]);
-    }
-    // Inputs (a parameter's value cannot depend on one, so ∂/∂u is the whole derivative).
-    std::vector<Expr> inputs;
-    for (const Parameter& p : model.parameters)
-        if (p.input) inputs.push_back(p.symbol);
-    const std::size_t K = inputs.size();
-    eom.input_r.resize(n * K);
-    eom.input_c.resize(m * K);
-    for (std::size_t u = 0; u < K; ++u) {
-        for (std::size_t i = 0; i < n; ++i) eom.input_r[i * K + u] = cas::diff(r[i], inputs[u]);
-        for (std::size_t k = 0; k < m; ++k) eom.input_c[k * K + u] = cas::diff(c[k], inputs[u]);
-    }
-}
-
 } // namespace
 
 namespace {
@@ -265,18 +221,53 @@ std::optional<EquationsOfMotion> derive_impl(const Model& model, grammar::Diagno
                        " distinct subexpressions (the limit is " + std::to_string(limits.max_nodes) + ")");
         return std::nullopt;
     }
-    derive_jacobians(model, q, qd, eom);
-    all.clear();
-    for (auto* v : {&eom.jacobian_r, &eom.jacobian_c, &eom.input_r, &eom.input_c})
-        all.insert(all.end(), v->begin(), v->end());
-    if (const std::size_t nodes = cas::dag_size(all); nodes > limits.max_nodes) {
-        sink.error(model.lagrangian_where.offset, model.lagrangian_where.length,
-                   "the Jacobians of the equations of motion are too large: " + std::to_string(nodes) +
-                       " distinct subexpressions (the limit is " + std::to_string(limits.max_nodes) + ")");
-        return std::nullopt;
-    }
     return eom;
 }
 } // namespace
+
+/// Fills the Jacobian part of `eom` (see EquationsOfMotion): ∂r/∂y, ∂c/∂y, ∂r/∂u, ∂c/∂u.
+/// r and c are linear in â and λ̂, so each entry is a small sum; only nodes that contain the
+/// variable are visited (the atom masks), and the derivatives of shared subexpressions are
+/// memoized across rows.
+void derive_jacobians(const Model& model, EquationsOfMotion& eom) {
+    const std::size_t n = eom.dof, m = eom.n_constraints;
+    std::vector<Expr> y = model.coordinate_symbols();
+    for (std::size_t i = 0; i < n; ++i) y.push_back(cas::velocity(y[i]));
+    eom.acceleration_symbols.clear();
+    eom.multiplier_symbols.clear();
+    for (std::size_t i = 0; i < n; ++i) eom.acceleration_symbols.push_back(cas::symbol("@a" + std::to_string(i)));
+    for (std::size_t k = 0; k < m; ++k) eom.multiplier_symbols.push_back(cas::symbol("@l" + std::to_string(k)));
+    const auto& a = eom.acceleration_symbols;
+    const auto& l = eom.multiplier_symbols;
+    std::vector<Expr> r(n), c(m);
+    for (std::size_t i = 0; i < n; ++i) {
+        std::vector<Expr> terms{eom.forcing[i]};
+        for (std::size_t k = 0; k < n; ++k) terms.push_back(-(eom.mass_matrix[i * n + k] * a[k]));
+        for (std::size_t k = 0; k < m; ++k) terms.push_back(eom.constraint_matrix[k * n + i] * l[k]);
+        r[i] = cas::add(terms);
+    }
+    for (std::size_t k = 0; k < m; ++k) {
+        std::vector<Expr> terms{eom.gamma[k]};
+        for (std::size_t i = 0; i < n; ++i) terms.push_back(-(eom.constraint_matrix[k * n + i] * a[i]));
+        c[k] = cas::add(terms);
+    }
+    eom.jacobian_r.resize(n * 2 * n);
+    eom.jacobian_c.resize(m * 2 * n);
+    for (std::size_t j = 0; j < 2 * n; ++j) {
+        for (std::size_t i = 0; i < n; ++i) eom.jacobian_r[i * 2 * n + j] = cas::diff(r[i], y[j]);
+        for (std::size_t k = 0; k < m; ++k) eom.jacobian_c[k * 2 * n + j] = cas::diff(c[k], y[j]);
+    }
+    // Inputs (a parameter's value cannot depend on one, so ∂/∂u is the whole derivative).
+    std::vector<Expr> inputs;
+    for (const Parameter& p : model.parameters)
+        if (p.input) inputs.push_back(p.symbol);
+    const std::size_t K = inputs.size();
+    eom.input_r.resize(n * K);
+    eom.input_c.resize(m * K);
+    for (std::size_t u = 0; u < K; ++u) {
+        for (std::size_t i = 0; i < n; ++i) eom.input_r[i * K + u] = cas::diff(r[i], inputs[u]);
+        for (std::size_t k = 0; k < m; ++k) eom.input_c[k * K + u] = cas::diff(c[k], inputs[u]);
+    }
+}
 
 } // namespace phynjo::codegen

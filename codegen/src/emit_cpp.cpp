@@ -28,6 +28,7 @@ EmittedCpp emit_cpp(const Model& m, const EquationsOfMotion& raw, const EmitOpti
             for (Expr& e : *v) e = h[k++];
         eom.energy = h[k];
     }
+    derive_jacobians(m, eom);
     (void)n;
     EmittedCpp out;
     out.header = emit_header(m, raw.mass_depends_on_velocities);

@@ -211,7 +211,7 @@ TEST_CASE("pendulum: J = [[0, 1], [-g/l cos th, 0]] exactly", "[codegen][jacobia
 }
 
 // Bug caught: input_jacobian's rows swapped with the zero block, or a wrong size check.
-TEST_CASE("four-bar: dq''/dtau is the first column of the constrained inverse; B has a zero top", "[codegen][jacobians]") {
+TEST_CASE("four-bar input_jacobian: a zero top block, a nonzero dq''/dtau, sizes checked", "[codegen][jacobians]") {
     const four_bar::Parameters P;
     std::vector<double> q(3), v(3), B(6);
     four_bar::initial_state(P, q, v);

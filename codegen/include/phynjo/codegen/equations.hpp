@@ -40,7 +40,7 @@ struct EquationsOfMotion {
     /// are the scale against which a residual counts as small (constraint_scales).
     std::vector<std::vector<cas::Expr>> residual_terms, velocity_residual_terms;
 
-    // (v2) Jacobians of y' = (q', q'') with y = (q, q'), by implicit differentiation of the
+    // (v2) Jacobians of y' (filled by derive_jacobians) = (q', q'') with y = (q, q'), by implicit differentiation of the
     // saddle-point system. With symbols â for q'' and λ̂ for λ,
     //   r(y, â, λ̂) = f − M â + Gᵀλ̂ = 0,   c(y, â) = γ − G â = 0,
     // so that at â = q'', λ̂ = λ
@@ -68,5 +68,10 @@ struct DeriveLimits {
 /// and, at the lagrangian statement, equations larger than `limits.max_nodes`; returns
 /// nothing then.
 std::optional<EquationsOfMotion> derive(const Model& model, grammar::DiagnosticSink& sink, const DeriveLimits& limits = {});
+
+/// Fills the Jacobian part of `eom` (acceleration_symbols … input_c) from its M, f, G and γ,
+/// in whatever form they are: the emitter calls it on their Horner forms, whose derivatives
+/// keep the factored sums.
+void derive_jacobians(const Model& model, EquationsOfMotion& eom);
 
 } // namespace phynjo::codegen
