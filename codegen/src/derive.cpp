@@ -253,8 +253,14 @@ void derive_jacobians(const Model& model, EquationsOfMotion& eom) {
     }
     eom.jacobian_r.resize(n * 2 * n);
     eom.jacobian_c.resize(m * 2 * n);
+    eom.momenta_jacobian.resize(n * 2 * n);
+    eom.force_jacobian.resize(n * 2 * n);
     for (std::size_t j = 0; j < 2 * n; ++j) {
-        for (std::size_t i = 0; i < n; ++i) eom.jacobian_r[i * 2 * n + j] = cas::diff(r[i], y[j]);
+        for (std::size_t i = 0; i < n; ++i) {
+            eom.jacobian_r[i * 2 * n + j] = cas::diff(r[i], y[j]);
+            eom.momenta_jacobian[i * 2 * n + j] = cas::diff(eom.momenta[i], y[j]);
+            eom.force_jacobian[i * 2 * n + j] = cas::diff(eom.generalized_forces[i], y[j]);
+        }
         for (std::size_t k = 0; k < m; ++k) eom.jacobian_c[k * 2 * n + j] = cas::diff(c[k], y[j]);
     }
     // Inputs (a parameter's value cannot depend on one, so ∂/∂u is the whole derivative).

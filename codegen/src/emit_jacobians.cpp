@@ -93,6 +93,30 @@ std::string emit_jacobians(const Model& m, const EquationsOfMotion& eom, Names n
     std::ostringstream s;
     emit_one(s, m, eom, names, "rhs_jacobian", "J", 2 * eom.dof, eom.jacobian_r, eom.jacobian_c, true);
     emit_one(s, m, eom, names, "input_jacobian", "B", m.n_inputs(), eom.input_r, eom.input_c, false);
+    // canonical_jacobian: p, F, ∂p/∂y, ∂F/∂y in one body (the Newton iteration of the
+    // implicit midpoint rule evaluates them together)
+    {
+        const std::size_t n = eom.dof;
+        std::vector<Expr> all = eom.momenta;
+        all.insert(all.end(), eom.generalized_forces.begin(), eom.generalized_forces.end());
+        all.insert(all.end(), eom.momenta_jacobian.begin(), eom.momenta_jacobian.end());
+        all.insert(all.end(), eom.force_jacobian.begin(), eom.force_jacobian.end());
+        std::vector<std::string> res;
+        bool uses_t = false, uses_p = false;
+        const std::string b = body(names, all, res, uses_t, uses_p);
+        s << "void canonical_jacobian(const Parameters& P, double t, std::span<const double> q, std::span<const double> qdot,\n"
+          << "    std::span<double> p, std::span<double> F, std::span<double> dp, std::span<double> dF) {\n";
+        for (const auto& [name, len] : std::initializer_list<std::pair<const char*, std::size_t>>{
+                 {"q", n}, {"qdot", n}, {"p", n}, {"F", n}, {"dp", 2 * n * n}, {"dF", 2 * n * n}})
+            s << "    check_size(" << name << ", " << len << ", \"canonical_jacobian\", \"" << name << "\");\n";
+        s << unused(uses_t, uses_p) << b;
+        const char* outs[] = {"p", "F", "dp", "dF"};
+        const std::size_t lens[] = {n, n, 2 * n * n, 2 * n * n};
+        std::size_t k = 0;
+        for (int o = 0; o < 4; ++o)
+            for (std::size_t i = 0; i < lens[o]; ++i) s << "    " << outs[o] << "[" << i << "] = " << res[k++] << ";\n";
+        s << "}\n\n";
+    }
     return s.str();
 }
 

@@ -23,7 +23,7 @@ using detail::velocities_from_momenta;
 
 /// Scratch of one midpoint step (thread-local: a workflow may be stepped on several threads).
 struct MidpointScratch {
-    std::vector<double> q0, p0, qm, pm, vm, F, M, tmp, a, lambda, G;
+    std::vector<double> q0, p0, qm, pm, vm, F, M, tmp, a, lambda, G, dp, dF, J;
     std::vector<std::size_t> perm;
     /// The last solution (q1, p1, midpoint velocities), and whether the next solve starts from
     /// it (the symmetric projection solves nearby problems in a row).
@@ -33,14 +33,84 @@ struct MidpointScratch {
         for (auto* v : {&q0, &p0, &qm, &pm, &vm, &F, &tmp, &a, &q1_last, &p1_last, &vm_last, &p1}) v->assign(n, 0.0);
         warm = false;
         M.assign(n * n, 0.0);
+        J.assign(n * n, 0.0);
+        dp.assign(2 * n * n, 0.0);
+        dF.assign(2 * n * n, 0.0);
         lambda.assign(m, 0.0);
         G.assign(m * n, 0.0);
     }
 };
 
-/// One implicit midpoint step (q, v) at t0 → (q1, v1) at t0 + dt, in canonical variables.
-/// Constrained models: p' = F + Gᵀλ with the multipliers of the index-1 system at the midpoint.
-void midpoint_core(const LagrangianSystem& s, double t0, double dt, std::span<const double> q, std::span<const double> v,
+/// F += Gᵀλ with λ of the index-1 system at (t, q, v) (constrained models).
+void add_constraint_forces(const LagrangianSystem& s, double t, std::span<const double> q, std::span<const double> v,
+                           MidpointScratch& k) {
+    const std::size_t n = s.dof, m = s.n_constraints;
+    s.accelerations_and_multipliers(t, q, v, k.a, k.lambda);
+    s.constraint_matrix(t, q, k.G);
+    for (std::size_t c = 0; c < m; ++c)
+        for (std::size_t i = 0; i < n; ++i) k.F[i] += k.G[c * n + i] * k.lambda[c];
+}
+
+/// The same step as midpoint_fixed_point, solved by Newton's method with the exact Jacobian
+/// (canonical_jacobian). Unknown: the midpoint Q; then V = 2(Q − q0)/dt and
+///   R(Q) = p(Q, V) − p0 − dt/2·F(Q, V) = 0,
+///   R'(Q) = 2/dt·M + ∂p/∂q − ∂F/∂q' − dt/2·∂F/∂q   (M = ∂p/∂q').
+/// Constrained models add Gᵀλ to F but not its derivative to R' (a simplified Newton step:
+/// the neglected term is O(dt²) relative to 2/dt·M, so it still converges in a few steps).
+/// Stops when (q1, p1) = (q0 + dt·V, p0 + dt·F) no longer change (round-off), as the fixed
+/// point does: the same solution, to round-off.
+void midpoint_newton(const LagrangianSystem& s, double t0, double dt, std::span<const double> q, std::span<const double> v,
+                     std::span<double> q1, std::span<double> v1, MidpointScratch& k) {
+    const std::size_t n = s.dof;
+    const double tm = t0 + 0.5 * dt, h = 0.5 * dt;
+    std::vector<double>& p1 = k.p1;
+    for (std::size_t i = 0; i < n; ++i) k.q0[i] = q[i];
+    s.momenta(t0, k.q0, v, k.p0);
+    for (std::size_t i = 0; i < n; ++i) {
+        k.qm[i] = k.warm ? 0.5 * (k.q0[i] + k.q1_last[i]) : k.q0[i] + h * v[i];
+        q1[i] = HUGE_VAL;
+        p1[i] = HUGE_VAL;
+    }
+    bool converged = false;
+    double last_change = HUGE_VAL;
+    for (int it = 0; it < 50 && !converged; ++it) {
+        for (std::size_t i = 0; i < n; ++i) k.vm[i] = (k.qm[i] - k.q0[i]) / h;
+        s.canonical_jacobian(tm, k.qm, k.vm, k.pm, k.F, k.dp, k.dF);
+        if (s.n_constraints > 0) add_constraint_forces(s, tm, k.qm, k.vm, k);
+        double change = 0, scale = 0;
+        for (std::size_t i = 0; i < n; ++i) {
+            const double nq = k.q0[i] + dt * k.vm[i], np = k.p0[i] + dt * k.F[i];
+            change = std::max({change, std::fabs(nq - q1[i]), std::fabs(np - p1[i])});
+            scale = std::max({scale, std::fabs(nq), std::fabs(np)});
+            q1[i] = nq;
+            p1[i] = np;
+        }
+        converged = change <= 4e-16 * (1 + scale) || (it >= 8 && change >= last_change && change <= 1e-13 * (1 + scale));
+        last_change = change;
+        if (converged) break;
+        for (std::size_t i = 0; i < n; ++i) {
+            k.tmp[i] = -(k.pm[i] - k.p0[i] - h * k.F[i]);
+            for (std::size_t j = 0; j < n; ++j)
+                k.J[i * n + j] = k.dp[i * 2 * n + n + j] / h + k.dp[i * 2 * n + j] - k.dF[i * 2 * n + n + j] -
+                                 h * k.dF[i * 2 * n + j];
+        }
+        if (!dense_solve(k.J, k.tmp, n))
+            throw ConvergenceError("implicit midpoint: singular Newton matrix at t = " + std::to_string(t0));
+        for (std::size_t i = 0; i < n; ++i) k.qm[i] += k.tmp[i];
+    }
+    if (!converged) throw ConvergenceError("implicit midpoint did not converge at t = " + std::to_string(t0) +
+                                           " (step " + std::to_string(dt) + " too large?)");
+    for (std::size_t i = 0; i < n; ++i) {
+        k.q1_last[i] = q1[i];
+        k.p1_last[i] = p1[i];
+        k.vm_last[i] = k.vm[i];
+        v1[i] = k.vm[i];
+    }
+    velocities_from_momenta(s, t0 + dt, q1, p1, v1, k.M, k.tmp, k.perm);
+}
+
+/// One implicit midpoint step by fixed-point iteration (systems without canonical_jacobian).
+void midpoint_fixed_point(const LagrangianSystem& s, double t0, double dt, std::span<const double> q, std::span<const double> v,
                    std::span<double> q1, std::span<double> v1, MidpointScratch& k) {
     const std::size_t n = s.dof, m = s.n_constraints;
     const double tm = t0 + 0.5 * dt;
@@ -64,12 +134,7 @@ void midpoint_core(const LagrangianSystem& s, double t0, double dt, std::span<co
         }
         velocities_from_momenta(s, tm, k.qm, k.pm, k.vm, k.M, k.tmp, k.perm);
         s.generalized_forces(tm, k.qm, k.vm, k.F);
-        if (m > 0) {
-            s.accelerations_and_multipliers(tm, k.qm, k.vm, k.a, k.lambda);
-            s.constraint_matrix(tm, k.qm, k.G);
-            for (std::size_t c = 0; c < m; ++c)
-                for (std::size_t i = 0; i < n; ++i) k.F[i] += k.G[c * n + i] * k.lambda[c];
-        }
+        if (m > 0) add_constraint_forces(s, tm, k.qm, k.vm, k);
         double change = 0, scale = 0;
         for (std::size_t i = 0; i < n; ++i) {
             const double nq = k.q0[i] + dt * k.vm[i], np = k.p0[i] + dt * k.F[i];
@@ -93,6 +158,17 @@ void midpoint_core(const LagrangianSystem& s, double t0, double dt, std::span<co
     // the velocities at the end: from p1 at q1 (start Newton from the midpoint velocities)
     for (std::size_t i = 0; i < n; ++i) v1[i] = k.vm[i];
     velocities_from_momenta(s, t0 + dt, q1, p1, v1, k.M, k.tmp, k.perm);
+}
+
+/// One implicit midpoint step (q, v) at t0 → (q1, v1) at t0 + dt, in canonical variables.
+/// Constrained models: p' = F + Gᵀλ with the multipliers of the index-1 system at the midpoint.
+void midpoint_core(const LagrangianSystem& s, double t0, double dt, std::span<const double> q, std::span<const double> v,
+                   std::span<double> q1, std::span<double> v1, MidpointScratch& k) {
+    if (s.canonical_jacobian) {
+        midpoint_newton(s, t0, dt, q, v, q1, v1, k);
+        return;
+    }
+    midpoint_fixed_point(s, t0, dt, q, v, q1, v1, k);
 }
 
 /// The symmetric projection of Hairer (BIT 40, 2000) around midpoint_core, onto the

@@ -53,6 +53,9 @@ struct EquationsOfMotion {
     std::vector<cas::Expr> jacobian_c; ///< ∂c/∂y, row-major n_constraints × 2·dof
     std::vector<cas::Expr> input_r;    ///< ∂r/∂u, row-major dof × n_inputs
     std::vector<cas::Expr> input_c;    ///< ∂c/∂u, row-major n_constraints × n_inputs
+    /// For implicit integrators in canonical variables: ∂p/∂y and ∂F/∂y (F the generalized
+    /// forces), row-major dof × 2·dof each.
+    std::vector<cas::Expr> momenta_jacobian, force_jacobian;
 };
 
 /// Documented limits of the derivation.

@@ -84,6 +84,16 @@ struct LagrangianSystem {
     std::function<void(double t, std::span<const double> q, std::span<const double> qdot, std::span<double> qddot,
                        std::span<double> lambda)>
         accelerations_and_multipliers;
+
+    // (v2) Exact Jacobians (generated code provides them; may be empty for a hand-made system).
+    /// ∂y'/∂y of y = (q, q'), y' = (q', q''): (2·dof)×(2·dof), row-major.
+    std::function<void(double t, std::span<const double> q, std::span<const double> qdot, std::span<double> J)>
+        rhs_jacobian;
+    /// p, F (as `momenta`, `generalized_forces`) and dp = ∂p/∂(q, q'), dF = ∂F/∂(q, q')
+    /// (dof×2·dof each, row-major): what the Newton iteration of lagrangian_midpoint needs.
+    std::function<void(double t, std::span<const double> q, std::span<const double> qdot, std::span<double> p,
+                       std::span<double> F, std::span<double> dp, std::span<double> dF)>
+        canonical_jacobian;
 };
 
 /// Field ids of a world of generalized coordinates: q (coordinate), qd (velocity), then the
