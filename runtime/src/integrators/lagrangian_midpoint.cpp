@@ -51,6 +51,39 @@ void add_constraint_forces(const LagrangianSystem& s, double t, std::span<const 
         for (std::size_t i = 0; i < n; ++i) k.F[i] += k.G[c * n + i] * k.lambda[c];
 }
 
+/// The end point (q1, p1) = (q0 + dt·vm, p0 + dt·F) from the midpoint values of iteration
+/// `it` (q1 given, p1 in the scratch); true when it no longer changes: converged at
+/// round-off, or stalled there (the iteration rounds differently from one pass to the next:
+/// a few ulps of a large coordinate, a wound-up angle).
+bool update_end_point(double dt, int it, double& last_change, std::span<double> q1, MidpointScratch& k) {
+    double change = 0, scale = 0;
+    for (std::size_t i = 0; i < q1.size(); ++i) {
+        const double nq = k.q0[i] + dt * k.vm[i], np = k.p0[i] + dt * k.F[i];
+        change = std::max({change, std::fabs(nq - q1[i]), std::fabs(np - k.p1[i])});
+        scale = std::max({scale, std::fabs(nq), std::fabs(np)});
+        q1[i] = nq;
+        k.p1[i] = np;
+    }
+    const bool done = change <= 4e-16 * (1 + scale) || (it >= 8 && change >= last_change && change <= 1e-13 * (1 + scale));
+    last_change = change;
+    return done;
+}
+
+/// After the iteration: remembers the solution (the next solve may start from it) and
+/// computes the end velocities from p1 at q1 (Newton from the midpoint velocities).
+void finish_step(const LagrangianSystem& s, double t0, double dt, bool converged, std::span<double> q1,
+                 std::span<double> v1, MidpointScratch& k) {
+    if (!converged) throw ConvergenceError("implicit midpoint did not converge at t = " + std::to_string(t0) +
+                                           " (step " + std::to_string(dt) + " too large?)");
+    for (std::size_t i = 0; i < q1.size(); ++i) {
+        k.q1_last[i] = q1[i];
+        k.p1_last[i] = k.p1[i];
+        k.vm_last[i] = k.vm[i];
+        v1[i] = k.vm[i];
+    }
+    velocities_from_momenta(s, t0 + dt, q1, k.p1, v1, k.M, k.tmp, k.perm);
+}
+
 /// The same step as midpoint_fixed_point, solved by Newton's method with the exact Jacobian
 /// (canonical_jacobian). Unknown: the midpoint Q; then V = 2(Q − q0)/dt and
 ///   R(Q) = p(Q, V) − p0 − dt/2·F(Q, V) = 0,
@@ -77,16 +110,7 @@ void midpoint_newton(const LagrangianSystem& s, double t0, double dt, std::span<
         for (std::size_t i = 0; i < n; ++i) k.vm[i] = (k.qm[i] - k.q0[i]) / h;
         s.canonical_jacobian(tm, k.qm, k.vm, k.pm, k.F, k.dp, k.dF);
         if (s.n_constraints > 0) add_constraint_forces(s, tm, k.qm, k.vm, k);
-        double change = 0, scale = 0;
-        for (std::size_t i = 0; i < n; ++i) {
-            const double nq = k.q0[i] + dt * k.vm[i], np = k.p0[i] + dt * k.F[i];
-            change = std::max({change, std::fabs(nq - q1[i]), std::fabs(np - p1[i])});
-            scale = std::max({scale, std::fabs(nq), std::fabs(np)});
-            q1[i] = nq;
-            p1[i] = np;
-        }
-        converged = change <= 4e-16 * (1 + scale) || (it >= 8 && change >= last_change && change <= 1e-13 * (1 + scale));
-        last_change = change;
+        converged = update_end_point(dt, it, last_change, q1, k);
         if (converged) break;
         for (std::size_t i = 0; i < n; ++i) {
             k.tmp[i] = -(k.pm[i] - k.p0[i] - h * k.F[i]);
@@ -98,15 +122,7 @@ void midpoint_newton(const LagrangianSystem& s, double t0, double dt, std::span<
             throw ConvergenceError("implicit midpoint: singular Newton matrix at t = " + std::to_string(t0));
         for (std::size_t i = 0; i < n; ++i) k.qm[i] += k.tmp[i];
     }
-    if (!converged) throw ConvergenceError("implicit midpoint did not converge at t = " + std::to_string(t0) +
-                                           " (step " + std::to_string(dt) + " too large?)");
-    for (std::size_t i = 0; i < n; ++i) {
-        k.q1_last[i] = q1[i];
-        k.p1_last[i] = p1[i];
-        k.vm_last[i] = k.vm[i];
-        v1[i] = k.vm[i];
-    }
-    velocities_from_momenta(s, t0 + dt, q1, p1, v1, k.M, k.tmp, k.perm);
+    finish_step(s, t0, dt, converged, q1, v1, k);
 }
 
 /// One implicit midpoint step by fixed-point iteration (systems without canonical_jacobian).
@@ -135,29 +151,9 @@ void midpoint_fixed_point(const LagrangianSystem& s, double t0, double dt, std::
         velocities_from_momenta(s, tm, k.qm, k.pm, k.vm, k.M, k.tmp, k.perm);
         s.generalized_forces(tm, k.qm, k.vm, k.F);
         if (m > 0) add_constraint_forces(s, tm, k.qm, k.vm, k);
-        double change = 0, scale = 0;
-        for (std::size_t i = 0; i < n; ++i) {
-            const double nq = k.q0[i] + dt * k.vm[i], np = k.p0[i] + dt * k.F[i];
-            change = std::max({change, std::fabs(nq - q1[i]), std::fabs(np - p1[i])});
-            scale = std::max({scale, std::fabs(nq), std::fabs(np)});
-            q1[i] = nq;
-            p1[i] = np;
-        }
-        // converged at round-off; or stalled there (the iteration map rounds differently from
-        // one pass to the next: a few ulps of a large coordinate, a wound-up angle)
-        converged = change <= 4e-16 * (1 + scale) || (it >= 8 && change >= last_change && change <= 1e-13 * (1 + scale));
-        last_change = change;
+        converged = update_end_point(dt, it, last_change, q1, k);
     }
-    if (!converged) throw ConvergenceError("implicit midpoint did not converge at t = " + std::to_string(t0) +
-                                           " (step " + std::to_string(dt) + " too large?)");
-    for (std::size_t i = 0; i < n; ++i) {
-        k.q1_last[i] = q1[i];
-        k.p1_last[i] = p1[i];
-        k.vm_last[i] = k.vm[i];
-    }
-    // the velocities at the end: from p1 at q1 (start Newton from the midpoint velocities)
-    for (std::size_t i = 0; i < n; ++i) v1[i] = k.vm[i];
-    velocities_from_momenta(s, t0 + dt, q1, p1, v1, k.M, k.tmp, k.perm);
+    finish_step(s, t0, dt, converged, q1, v1, k);
 }
 
 /// One implicit midpoint step (q, v) at t0 → (q1, v1) at t0 + dt, in canonical variables.
