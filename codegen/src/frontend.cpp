@@ -219,10 +219,19 @@ private:
                                           : "a parameter name cannot carry ' (parameters are constants)");
                 continue;
             }
+            // a binding whose value is rejected (reported) still declares its name: its uses
+            // are not also reported unknown (one mistake, one error)
+            auto failed = [&] { failed_names_.push_back(b.name.text); };
             auto v = expression(b.value);
-            if (!v) continue;
+            if (!v) {
+                failed();
+                continue;
+            }
             const std::string what = (input ? "the default of input '" : "the value of parameter '") + b.name.text + "'";
-            if (!constant(*v, b.value, what, true)) continue;
+            if (!constant(*v, b.value, what, true)) {
+                failed();
+                continue;
+            }
             // exact value: earlier parameters replaced by their values
             const auto values = parameter_values();
             Expr exact;
@@ -232,12 +241,14 @@ private:
                 dflt = cas::evaluate(exact, {});
             } catch (const cas::Error& e) {
                 error(span(b.value), what + " is not a finite real number");
+                failed();
                 continue;
             }
             if (is_cpp_keyword(b.name.text)) {
                 error(span(b.name), "'" + b.name.text + "' cannot name a" + (input ? "n " : " ") + kind +
                                         ": it is a C++ keyword, and " + kind +
                                         "s become fields of the generated Parameters struct");
+                failed();
                 continue;
             }
             const Expr sym = cas::symbol(b.name.text);

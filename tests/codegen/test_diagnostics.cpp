@@ -164,6 +164,10 @@ TEST_CASE("lag diagnostics: constraints and inputs, with notes", "[codegen][diag
     CHECK(diagnose("coordinates x, y\nlagrangian 1/2*(x'^2 + y'^2)\nconstraint skate: x'*y' = 0\n") ==
           "m.lag:3:12: error: constraint 'skate' is not linear in the velocities: x' enters nonlinearly (a nonholonomic "
           "constraint must be a(q, t)*q' + b(q, t) = 0)\n    constraint skate: x'*y' = 0\n               ^~~~~\n");
+    // one mistake, one error: a parameter whose value is rejected is not also unknown where it is used
+    CHECK(diagnose("coordinates x\ninput u = 1\nparameters k = 2*u\nlagrangian 1/2*x'^2 - 1/2*k*x^2\n") ==
+          "m.lag:3:16: error: the value of parameter 'k' is not constant: it depends on the input u (inputs change "
+          "during a run)\n    parameters k = 2*u\n                   ^~~\n");
     // accepted: holonomic, rheonomic and nonholonomic constraints, and an input in a force
     CHECK(diagnose("coordinates x, y\ninput u = 0.5\nlagrangian 1/2*(x'^2 + y'^2)\nforce x = u\n"
                    "constraint a: x = sin(t)\nconstraint b: x' + t*y' = 0\n") == "(accepted)");
