@@ -21,6 +21,15 @@ hoop="$(dirname "$0")/../codegen/models/rotating_hoop.lag"
   || bad "--emit=eom readable f: $("$lagc" "$hoop" --emit=eom | grep '^f')"
 "$lagc" "$models/pendulum.lag" --emit=latex -o "$work/p.tex" && grep -q '\\documentclass' "$work/p.tex" && grep -q 'M_{11} = l^{2} m' "$work/p.tex" \
   && ok "--emit=latex" || bad "--emit=latex"
+# --emit=linear: the upright pendulum, exact, with its unstable mode
+lin=$("$lagc" "$models/pendulum.lag" --emit=linear --at theta=pi)
+echo "$lin" | grep -qx '  \[g/l, 0\]' && echo "$lin" | grep -q '1 unstable mode' && ok "--emit=linear --at theta=pi" \
+  || bad "--emit=linear: $lin"
+"$lagc" "$models/pendulum.lag" --emit=linear --at "theta=pi" --format=latex | grep -q 'pmatrix' && ok "--emit=linear --format=latex" || bad "--emit=linear --format=latex"
+"$lagc" "$models/pendulum.lag" --emit=linear --at "phi=0" >/dev/null 2>"$work/lin.err"; [ $? -eq 1 ] \
+  && grep -q "'phi' is not a coordinate" "$work/lin.err" && ok "--emit=linear: unknown name, exit 1" || bad "--emit=linear unknown name"
+"$lagc" "$models/pendulum.lag" --emit=eom --at theta=0 >/dev/null 2>&1; [ $? -eq 2 ] && ok "--at without --emit=linear: exit 2" || bad "--at without --emit=linear"
+"$lagc" "$models/pendulum.lag" --emit=linear --at theta >/dev/null 2>&1; [ $? -eq 2 ] && ok "--at NAME without =: exit 2" || bad "--at NAME without ="
 "$lagc" --help | grep -q 'usage: phynjo-lagc' && ok "--help" || bad "--help"
 [ "$("$lagc" --version)" = "phynjo-lagc 0.1.0" ] && ok "--version" || bad "--version"
 "$lagc" >/dev/null 2>&1; [ $? -eq 2 ] && ok "no arguments: exit 2" || bad "no arguments: exit 2"

@@ -2,10 +2,13 @@
 //   phynjo-lagc MODEL.lag -o OUT.cpp [--main]     writes OUT.cpp and OUT.hpp
 //   phynjo-lagc MODEL.lag --emit=eom [-o FILE]    M and f in the input syntax
 //   phynjo-lagc MODEL.lag --emit=latex [-o FILE]  a LaTeX document of L and the equations
+//   phynjo-lagc MODEL.lag --emit=linear --at x=EXPR,…,x'=EXPR [--format=latex]   A and B
 // Exit status: 0 ok, 1 the model has errors (reported as FILE:LINE:COL: error: …), 2 usage.
 #include "phynjo/codegen/emit.hpp"
 #include "phynjo/codegen/equations.hpp"
 #include "phynjo/codegen/frontend.hpp"
+#include "phynjo/codegen/linearize.hpp"
+#include "phynjo/grammar/expression.hpp"
 
 #include <cstdlib>
 #include <fstream>
@@ -21,6 +24,7 @@ namespace {
 
 constexpr const char* usage_text = R"(usage: phynjo-lagc MODEL.lag -o OUT.cpp [--main]
        phynjo-lagc MODEL.lag --emit=eom|latex|cpp [-o FILE]
+       phynjo-lagc MODEL.lag --emit=linear --at x=EXPR,...,x'=EXPR [--format=latex] [-o FILE]
 
 Compiles a Lagrangian model (.lag, see lag-format.md) to C++: OUT.cpp and, beside it, OUT.hpp
 declaring the model's namespace (dof, Parameters, mass_matrix, forcing, accelerations,
@@ -28,7 +32,12 @@ momenta, energy, initial_state, and the runtime integration: system, make_world,
 
 options:
   -o FILE        output file (for cpp: the .cpp; the .hpp is written beside it)
-  --emit=KIND    cpp (default), eom (M and f in the input syntax), latex (a LaTeX document)
+  --emit=KIND    cpp (default), eom (M and f in the input syntax), latex (a LaTeX document),
+                 linear (A = dy'/dy and B = dy'/du about --at, exact, with the eigenvalues of A)
+  --at STATE     with --emit=linear: the state, NAME=EXPR separated by commas; NAME a
+                 coordinate x, a velocity x' or t; EXPR numbers, pi, functions and
+                 parameters (exact: th=pi gives A and B in closed form); what is not given is 0
+  --format=latex with --emit=linear: A and B as LaTeX matrices
   --main         add a main() that simulates from the initial state and writes CSV
                  (t, q..., q'..., E); run it with --help for its options
   --max-nodes=N  limit on the size of the derived equations, in distinct subexpressions
@@ -70,7 +79,8 @@ bool write_file(const std::string& path, const std::string& text) {
 
 int main(int argc, char** argv) {
     using namespace phynjo;
-    std::string input, output, emit = "cpp";
+    std::string input, output, emit = "cpp", at_text, format = "text";
+    bool have_at = false;
     bool with_main = false;
     codegen::DeriveLimits derive_limits;
     std::size_t max_output = 256u << 20;
@@ -89,7 +99,15 @@ int main(int argc, char** argv) {
             output = argv[i];
         } else if (a.rfind("--emit=", 0) == 0) {
             emit = a.substr(7);
-            if (emit != "cpp" && emit != "eom" && emit != "latex") return usage_error("unknown --emit kind '" + emit + "'");
+            if (emit != "cpp" && emit != "eom" && emit != "latex" && emit != "linear")
+                return usage_error("unknown --emit kind '" + emit + "'");
+        } else if (a == "--at" || a.rfind("--at=", 0) == 0) {
+            if (a == "--at" && ++i >= argc) return usage_error("--at needs a state, e.g. --at th=pi");
+            at_text = a == "--at" ? argv[i] : a.substr(5);
+            have_at = true;
+        } else if (a.rfind("--format=", 0) == 0) {
+            format = a.substr(9);
+            if (format != "text" && format != "latex") return usage_error("unknown --format '" + format + "' (text or latex)");
         } else if (a == "--main") with_main = true;
         else if (a.rfind("--max-nodes=", 0) == 0 || a.rfind("--max-output=", 0) == 0) {
             const std::string v = a.substr(a.find('=') + 1);
@@ -105,6 +123,39 @@ int main(int argc, char** argv) {
     if (input.empty()) return usage_error("missing model file");
     if (emit == "cpp" && output.empty()) return usage_error("-o OUT.cpp is needed to write C++");
     if (with_main && emit != "cpp") return usage_error("--main adds a main() to generated C++: it does not go with --emit=" + emit);
+    if (have_at && emit != "linear") return usage_error("--at gives the state of --emit=linear");
+    if (format != "text" && emit != "linear") return usage_error("--format goes with --emit=linear");
+    // --at: NAME=EXPR items, split at commas outside parentheses
+    std::vector<std::pair<std::string, cas::Expr>> at;
+    if (have_at) {
+        std::vector<std::string> items;
+        std::string item;
+        int depth = 0;
+        for (char ch : at_text) {
+            if (ch == ',' && depth == 0) {
+                items.push_back(item);
+                item.clear();
+                continue;
+            }
+            depth += ch == '(' ? 1 : ch == ')' ? -1 : 0;
+            item += ch;
+        }
+        items.push_back(item);
+        for (const std::string& it : items) {
+            const auto eq = it.find('=');
+            std::string name = it.substr(0, eq);
+            name.erase(0, name.find_first_not_of(' '));
+            name.erase(name.find_last_not_of(' ') + 1);
+            if (eq == std::string::npos || name.empty())
+                return usage_error("--at: '" + it + "' is not NAME=EXPR (e.g. th=pi or th'=0)");
+            try {
+                at.emplace_back(name, grammar::parse(it.substr(eq + 1), "--at " + name));
+            } catch (const std::exception& e) {
+                std::cerr << e.what();
+                return usage_error("--at: cannot read the value of " + name);
+            }
+        }
+    }
 
     std::ifstream in(input, std::ios::binary);
     if (!in) {
@@ -120,6 +171,19 @@ int main(int argc, char** argv) {
         if (!model || !eom) {
             std::cerr << sink.format_all();
             return 1;
+        }
+        if (emit == "linear") {
+            codegen::derive_jacobians(*model, *eom);
+            std::string doc;
+            try {
+                doc = codegen::emit_linear(*model, codegen::linearize(*model, *eom, at), format == "latex");
+            } catch (const codegen::LinearizeError& e) {
+                std::cerr << "phynjo-lagc: --emit=linear: " << e.what() << "\n";
+                return 1;
+            }
+            if (output.empty()) std::cout << doc;
+            else if (!write_file(output, doc)) return 1;
+            return 0;
         }
         if (emit == "eom" || emit == "latex") {
             const std::string doc = emit == "eom" ? codegen::emit_eom(*model, *eom) : codegen::emit_latex(*model, *eom);

@@ -1,0 +1,178 @@
+// phynjo-lagc --emit=linear: the linearization about a state, exact, against closed forms
+// (the cart-pole's textbook A and B, the pendulum's eigenvalues) and against central
+// differences of the accelerations away from equilibrium (constrained models too).
+#include "phynjo/cas/cas.hpp"
+#include "phynjo/codegen/equations.hpp"
+#include "phynjo/codegen/frontend.hpp"
+#include "phynjo/codegen/linearize.hpp"
+#include "phynjo/grammar/expression.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <Eigen/Dense>
+
+#include <cmath>
+#include <fstream>
+#include <iterator>
+
+using namespace phynjo;
+using cas::Expr;
+
+namespace {
+
+struct Compiled {
+    codegen::Model model;
+    codegen::EquationsOfMotion eom;
+};
+
+Compiled compile(std::string_view text) {
+    grammar::DiagnosticSink sink("m.lag", text);
+    auto model = codegen::read_model(text, "m.lag", sink);
+    INFO(sink.format_all());
+    REQUIRE(model);
+    auto eom = codegen::derive(*model, sink);
+    REQUIRE(eom);
+    codegen::derive_jacobians(*model, *eom);
+    return {*model, *eom};
+}
+
+std::string file(const std::string& path) {
+    std::ifstream in(path);
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+codegen::Linearization at(const Compiled& c, std::vector<std::pair<std::string, std::string>> state) {
+    std::vector<std::pair<std::string, Expr>> s;
+    for (const auto& [name, value] : state) s.emplace_back(name, grammar::parse(value));
+    return codegen::linearize(c.model, c.eom, s);
+}
+
+/// a − b expands to 0: equal as rational functions (after expansion).
+bool same(Expr a, const char* b) { return cas::simplify(cas::expand(a - grammar::parse(b))).is_zero(); }
+
+/// The accelerations of the (constrained) model at a numeric state, from M, f, G, γ
+/// evaluated by the CAS and the saddle-point system solved by Eigen.
+Eigen::VectorXd accelerations(const Compiled& c, const std::vector<double>& y) {
+    const std::size_t n = c.eom.dof, m = c.eom.n_constraints;
+    cas::Bindings<double> b;
+    const auto q = c.model.coordinate_symbols();
+    for (std::size_t i = 0; i < n; ++i) {
+        b[q[i]] = y[i];
+        b[cas::velocity(q[i])] = y[n + i];
+    }
+    for (const auto& p : c.model.parameters) b[p.symbol] = p.default_value;
+    b[cas::time_symbol()] = 0;
+    Eigen::MatrixXd K = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(n + m), static_cast<Eigen::Index>(n + m));
+    Eigen::VectorXd r(static_cast<Eigen::Index>(n + m));
+    for (std::size_t i = 0; i < n; ++i) {
+        for (std::size_t j = 0; j < n; ++j) K(i, j) = cas::evaluate(c.eom.mass_matrix[i * n + j], b);
+        r(i) = cas::evaluate(c.eom.forcing[i], b);
+    }
+    for (std::size_t k = 0; k < m; ++k) {
+        for (std::size_t j = 0; j < n; ++j) {
+            const double g = cas::evaluate(c.eom.constraint_matrix[k * n + j], b);
+            K(n + k, j) = g;
+            K(j, n + k) = -g;
+        }
+        r(n + k) = cas::evaluate(c.eom.gamma[k], b);
+    }
+    return K.fullPivLu().solve(r).head(static_cast<Eigen::Index>(n));
+}
+
+/// The largest difference between A (evaluated at the defaults) and central differences.
+double against_differences(const Compiled& c, const codegen::Linearization& lin) {
+    const std::size_t n = c.eom.dof, N = 2 * n;
+    cas::Bindings<double> defaults;
+    for (const auto& p : c.model.parameters) defaults[p.symbol] = p.default_value;
+    std::vector<double> y0(N);
+    for (std::size_t i = 0; i < N; ++i) y0[i] = cas::evaluate(lin.state[i], defaults);
+    double worst = 0;
+    for (std::size_t j = 0; j < N; ++j) {
+        const double h = 1e-5;
+        auto yp = y0, ym = y0;
+        yp[j] += h;
+        ym[j] -= h;
+        const Eigen::VectorXd d = (accelerations(c, yp) - accelerations(c, ym)) / (2 * h);
+        for (std::size_t i = 0; i < n; ++i)
+            worst = std::max(worst, std::fabs(cas::evaluate(lin.A[(n + i) * N + j], defaults) - d(static_cast<Eigen::Index>(i))));
+        for (std::size_t i = 0; i < n; ++i)
+            worst = std::max(worst, std::fabs(cas::evaluate(lin.A[i * N + j], defaults) - (j == n + i ? 1.0 : 0.0)));
+    }
+    return worst;
+}
+
+} // namespace
+
+// Bugs caught: a wrong sign or a missing term in the symbolic solve (the adjugate's
+// cofactor signs, a transposed cofactor), inputs not at their defaults, B's rows swapped.
+TEST_CASE("linearization: the inverted cart-pole's textbook A and B, in closed form", "[codegen][linearize]") {
+    const Compiled c = compile(file(PHYNJO_TEST_MODELS "/cart_pole_input.lag"));
+    const auto lin = at(c, {{"th", "pi"}});
+    REQUIRE(lin.A.size() == 16);
+    REQUIRE(lin.B.size() == 4);
+    for (Expr r : lin.rate) CHECK(r.is_zero()); // an equilibrium with F at its default 0
+    const char* A[16] = {"0", "0", "1", "0", "0", "0", "0", "1", "0", "m*g/M", "0", "0", "0", "(M + m)*g/(M*l)", "0", "0"};
+    for (int k = 0; k < 16; ++k) {
+        INFO("A entry " << k << ": " << cas::to_string(lin.A[k]));
+        CHECK(same(lin.A[k], A[k]));
+    }
+    const char* B[4] = {"0", "0", "1/M", "1/(M*l)"};
+    for (int k = 0; k < 4; ++k) {
+        INFO("B entry " << k << ": " << cas::to_string(lin.B[k]));
+        CHECK(same(lin.B[k], B[k]));
+    }
+    CHECK(cas::to_string(lin.A[9]) == "g*m/M"); // printed in closed form, not as a quotient of sums
+    // eigenvalues 0, 0, ±sqrt((M + m) g / (M l))
+    const double s = std::sqrt(1.1 * 9.81 / 0.5);
+    REQUIRE(lin.eigenvalues.size() == 4);
+    CHECK(lin.eigenvalues[0].real() == Approx(s).epsilon(1e-12));
+    CHECK(lin.eigenvalues[3].real() == Approx(-s).epsilon(1e-12));
+    // a force F = 1 held: not an equilibrium, the cart and pole accelerate at 1/M, 1/(M l)
+    const auto pushed = at(c, {{"th", "pi"}, {"F", "1"}});
+    CHECK(same(pushed.rate[2], "1/M"));
+    CHECK(same(pushed.rate[3], "1/(M*l)"));
+}
+
+// Bug caught: eigenvalues of the wrong matrix (A transposed still passes; B in A does not),
+// the hanging and upright states confused.
+TEST_CASE("linearization: the pendulum's eigenvalues, +-i sqrt(g/l) hanging, +-sqrt(g/l) upright", "[codegen][linearize]") {
+    const Compiled c = compile(file(PHYNJO_EXAMPLE_MODELS "/pendulum.lag"));
+    const double w = std::sqrt(9.81 / 1.0);
+    const auto down = at(c, {{"theta", "0"}}), up = at(c, {{"theta", "pi"}});
+    CHECK(same(down.A[2], "-g/l"));
+    CHECK(same(up.A[2], "g/l"));
+    CHECK(std::fabs(down.eigenvalues[0].real()) < 1e-12);
+    CHECK(down.eigenvalues[0].imag() == Approx(w).epsilon(1e-12));
+    CHECK(down.eigenvalues[1].imag() == Approx(-w).epsilon(1e-12));
+    CHECK(up.eigenvalues[0].real() == Approx(w).epsilon(1e-12));
+    CHECK(up.eigenvalues[1].real() == Approx(-w).epsilon(1e-12));
+    const std::string text = codegen::emit_linear(c.model, up, false);
+    CHECK(text.find("1 unstable mode") != std::string::npos);
+    CHECK(text.find("the equilibrium is unstable") != std::string::npos);
+    CHECK(codegen::emit_linear(c.model, down, false).find("no eigenvalue with a positive real part") != std::string::npos);
+    CHECK(codegen::emit_linear(c.model, up, true).find("\\begin{pmatrix}") != std::string::npos);
+}
+
+// Bugs caught: q'' and λ not substituted for their symbols away from equilibrium (the
+// ∂M/∂q·q'' and ∂G/∂q·λ terms), the constrained solve (Gᵀ's sign in the saddle point).
+TEST_CASE("linearization away from equilibrium = central differences (double pendulum, Cartesian pendulum)",
+          "[codegen][linearize]") {
+    const Compiled dp = compile(file(PHYNJO_EXAMPLE_MODELS "/double_pendulum.lag"));
+    CHECK(against_differences(dp, at(dp, {{"th1", "1"}, {"th2", "1/2"}, {"th1'", "3/10"}, {"th2'", "-1"}})) < 1e-7);
+    const Compiled cp = compile(file(PHYNJO_EXAMPLE_MODELS "/cartesian_pendulum.lag"));
+    CHECK(against_differences(cp, at(cp, {{"x", "l*sin(1)"}, {"y", "-l*cos(1)"}, {"x'", "cos(1)"}, {"y'", "sin(1)"}})) <
+          1e-7);
+    const Compiled fb = compile(file(PHYNJO_EXAMPLE_MODELS "/four_bar.lag"));
+    CHECK(against_differences(fb, at(fb, {{"th2", "0.9733899101495463"}, {"th3", "1.696124157962962"}, {"th1'", "4"}})) <
+          1e-6);
+}
+
+// Bug caught: a state naming something else silently ignored; a singular state giving NaN.
+TEST_CASE("linearization: bad states are clear errors", "[codegen][linearize]") {
+    const Compiled c = compile(file(PHYNJO_EXAMPLE_MODELS "/pendulum.lag"));
+    CHECK_THROWS_WITH(at(c, {{"phi", "0"}}), "'phi' is not a coordinate, a velocity (x'), an input or t of model pendulum");
+    CHECK_THROWS_WITH(at(c, {{"theta", "zeta"}}), "the value of theta may use numbers and parameters only, not 'zeta'");
+    const Compiled s = compile("coordinates th, ph\nparameters m = 1, l = 1, g = 9.81\n"
+                               "lagrangian 1/2*m*l^2*(th'^2 + sin(th)^2*ph'^2) + m*g*l*cos(th)\n");
+    CHECK_THROWS_AS(at(s, {{"th", "0"}}), codegen::LinearizeError); // M = diag(m l², 0) at the pole
+}
