@@ -8,3 +8,4 @@ endif()
 find_package(Boost 1.74 REQUIRED)   # header-only: Spirit X3
 find_package(Eigen3 3.3 REQUIRED NO_MODULE) # rigid bodies: rotation and inertia matrices
 find_package(Threads REQUIRED)
+find_package(SUNDIALS 6 REQUIRED CONFIG) # CVODE: stiff integration of generated models (libsundials-dev)

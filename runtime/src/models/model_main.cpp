@@ -1,6 +1,7 @@
 // The command-line driver every generated simulator links (model_main.hpp).
 #include "phynjo/runtime/models/model_main.hpp"
 
+#include "phynjo/runtime/integrators/cvode.hpp"
 #include "phynjo/runtime/integrators/dormand_prince.hpp"
 #include "phynjo/runtime/integrators/lagrangian_midpoint.hpp"
 #include "phynjo/runtime/integrators/lagrangian_rattle.hpp"
@@ -41,18 +42,22 @@ void help(const char* prog, const ModelCommandLine& model, const LagrangianSyste
     std::string params, coords;
     for (const auto& [name, set] : model.parameters) params += (params.empty() ? "" : ", ") + std::string(name);
     for (const auto& n : sys.coordinate_names) coords += (coords.empty() ? "" : ", ") + n;
-    std::printf("usage: %s [--t-end T] [--dt DT] [--integrator rk4|dopri|midpoint|rattle] [--every K]\n"
+    std::printf("usage: %s [--t-end T] [--dt DT] [--integrator rk4|dopri|midpoint|rattle|cvode] [--every K]\n"
                 "          [--param NAME=VALUE]... [--init NAME=VALUE[,NAME'=VALUE]...]... [--output FILE]\n"
                 "          [--energy-tolerance TOL [--fail-on-drift]] [--project-initial]\n"
-                "          [--projection-tolerance TOL]\n"
+                "          [--projection-tolerance TOL] [--rtol R] [--atol A]\n"
                 "Simulates the model %.*s from its initial state and writes CSV: t, q..., q'..., E\n"
                 "(and, for a model with constraints, their multipliers lambda_NAME...).\n"
                 "  --t-end T              end time in s (default 10); the run ends exactly at T\n"
                 "  --dt DT                step in s (default 0.001); the last step is shortened to end at T\n"
                 "  --integrator NAME      rk4 (default), dopri (Dormand-Prince 5(4), adaptive between the\n"
                 "                         rows), midpoint (symplectic without constraints, symmetric with\n"
-                "                         them: bounded energy error), or rattle (symplectic with holonomic\n"
-                "                         constraints too)\n"
+                "                         them: bounded energy error), rattle (symplectic with holonomic\n"
+                "                         constraints too), or cvode (SUNDIALS CVODE: variable-order BDF\n"
+                "                         with the exact Jacobian, for stiff models; its own steps between\n"
+                "                         the rows; prints its step counts on stderr)\n"
+                "  --rtol R, --atol A     cvode and dopri: relative and absolute tolerances (defaults: cvode\n"
+                "                         1e-8 and 1e-10, dopri 1e-9 and 1e-12)\n"
                 "  --every K              write every K-th step (default: about 5000 rows); the first and\n"
                 "                         the last row are always written; t is exactly k*DT\n"
                 "  --param NAME=VALUE     set a parameter (repeatable); parameters: %s\n"
@@ -82,6 +87,7 @@ int model_main(int argc, char** argv, const ModelCommandLine& model) {
     bool fail_on_drift = false, project_initial = false;
     ProjectionOptions projection;
     std::string integrator = "rk4", output;
+    std::optional<double> rtol, atol;
     long every = 0;
     std::vector<std::pair<std::string, double>> inits;
     try {
@@ -106,6 +112,11 @@ int model_main(int argc, char** argv, const ModelCommandLine& model) {
             if (a == "--t-end") t_end = num("--t-end");
             else if (a == "--dt") dt = num("--dt");
             else if (a == "--integrator") integrator = value("--integrator");
+            else if (a == "--rtol" || a == "--atol") {
+                const double v = num(a == "--rtol" ? "--rtol" : "--atol");
+                if (!(v > 0)) throw UsageError{a + " must be positive"};
+                (a == "--rtol" ? rtol : atol) = v;
+            }
             else if (a == "--every") {
                 const std::string v = value("--every");
                 const auto k = whole_number(v);
@@ -149,8 +160,11 @@ int model_main(int argc, char** argv, const ModelCommandLine& model) {
         }
         if (!(dt > 0)) throw UsageError{"--dt must be positive"};
         if (!(t_end >= 0)) throw UsageError{"--t-end must not be negative"};
-        if (integrator != "rk4" && integrator != "dopri" && integrator != "midpoint" && integrator != "rattle")
-            throw UsageError{"--integrator must be rk4, dopri, midpoint or rattle, not '" + integrator + "'"};
+        if (integrator != "rk4" && integrator != "dopri" && integrator != "midpoint" && integrator != "rattle" &&
+            integrator != "cvode")
+            throw UsageError{"--integrator must be rk4, dopri, midpoint, rattle or cvode, not '" + integrator + "'"};
+        if ((rtol || atol) && integrator != "cvode" && integrator != "dopri")
+            throw UsageError{"--rtol and --atol go with --integrator cvode or dopri"};
         if (fail_on_drift && !energy_tolerance) throw UsageError{"--fail-on-drift needs --energy-tolerance"};
     } catch (const UsageError& e) {
         std::fprintf(stderr, "%s: %s\n", argv[0], e.message.c_str());
@@ -243,9 +257,21 @@ int model_main(int argc, char** argv, const ModelCommandLine& model) {
             w.time = target;
             if (k % every == 0 || k == total) row();
         };
-        if (integrator == "dopri") {
+        if (integrator == "cvode") {
+            Cvode::Options copts;
+            copts.projection = projection;
+            if (rtol) copts.rtol = *rtol;
+            if (atol) copts.atol = *atol;
+            Cvode cv(sys, copts);
+            for (long k = 1; k <= total; ++k) advance([&](double target, double) { cv.advance(w, target); }, k, target_of(k));
+            const auto st = cv.stats();
+            std::fprintf(stderr, "cvode: %ld steps, %ld right-hand sides, %ld Jacobians, %ld Newton iterations, %ld error-test failures\n",
+                         st.steps, st.rhs_evaluations, st.jacobian_evaluations, st.newton_iterations, st.error_test_failures);
+        } else if (integrator == "dopri") {
             DormandPrince45::Options dopts;
             dopts.projection = projection;
+            if (rtol) dopts.rtol = *rtol;
+            if (atol) dopts.atol = *atol;
             DormandPrince45 dp(sys, dopts);
             double h = dt;
             auto step_to = [&](double target, double) {

@@ -1,0 +1,59 @@
+#pragma once
+/// \file
+/// SUNDIALS CVODE for generated models: variable-order (1–5), variable-step BDF with Newton
+/// iterations on a dense direct solver, the model's exact rhs_jacobian as the Jacobian — for
+/// stiff systems, where an explicit method's step is bounded by the fastest mode. Not
+/// symplectic. (source: integrators/cvode.cpp)
+/// Reference: A. C. Hindmarsh et al., SUNDIALS: Suite of nonlinear and differential/algebraic
+/// equation solvers, ACM TOMS 31, 363 (2005); CVODE user guide v6.4.
+#include "phynjo/runtime/models/constraint_projection.hpp"
+
+#include <memory>
+
+namespace phynjo::runtime {
+
+/// CVODE on y = (q, q'), y' = (q', q''). Constrained models: the index-1 equations (the
+/// accelerations of the saddle-point system) with CVODE's projection after every step onto
+/// the position and velocity constraints (CVodeSetProjFn; ProjectionOptions), so the
+/// constraints hold to the projection tolerance without restarting the multistep history.
+class Cvode {
+public:
+    struct Options {
+        double rtol = 1e-8, atol = 1e-10;
+        /// The model's exact rhs_jacobian (true), or CVODE's internal difference quotients.
+        bool exact_jacobian = true;
+        long max_steps = 1'000'000; ///< internal steps per call to advance
+        ProjectionOptions projection{};
+    };
+    /// Counters since construction (CVODE's own).
+    struct Stats {
+        long steps = 0, rhs_evaluations = 0, jacobian_evaluations = 0, difference_quotient_rhs = 0,
+             newton_iterations = 0, error_test_failures = 0;
+    };
+    /// Throws std::invalid_argument for a system without rhs_jacobian when exact_jacobian is set.
+    Cvode(LagrangianSystem system, Options options);
+    ~Cvode();
+    Cvode(const Cvode&) = delete;
+    Cvode& operator=(const Cvode&) = delete;
+
+    /// Advances `w` to time `t_end` (CVODE chooses its internal steps; the state at t_end is
+    /// its interpolant there). Continues the multistep history when `w` is where the last
+    /// call left it, restarts otherwise (a state changed between calls). Errors become the
+    /// runtime's: ConvergenceError (CVODE's flag and message, and the time reached), or the
+    /// model's own (SingularMassMatrix, NonFiniteResult, …); `w` is then at the time reached.
+    void advance(World& w, double t_end);
+    [[nodiscard]] Stats stats() const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+/// CVODE as a workflow: one rule (`cvode`, writing q and q') that advances the world by dt
+/// per step with one Cvode (its multistep history carries over from step to step; a world
+/// changed between steps restarts it). The rule is stateful: copies of the workflow share
+/// the solver, so step one world per workflow.
+NumericWorkflow lagrangian_cvode(const LagrangianSystem& system, const std::shared_ptr<const Layout>& layout,
+                                 const Cvode::Options& options = {});
+
+} // namespace phynjo::runtime

@@ -1,0 +1,208 @@
+// SUNDIALS CVODE (BDF, Newton, dense direct solver) for generated models, with the model's
+// exact Jacobian. See integrators/cvode.hpp.
+#include "phynjo/runtime/integrators/cvode.hpp"
+
+#include <cvode/cvode.h>
+#include <cvode/cvode_proj.h>
+#include <nvector/nvector_serial.h>
+#include <sunlinsol/sunlinsol_dense.h>
+#include <sunmatrix/sunmatrix_dense.h>
+
+#include <exception>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace phynjo::runtime {
+
+struct Cvode::Impl {
+    LagrangianSystem sys;
+    Options opt;
+    std::size_t n = 0, N = 0;
+    SUNContext ctx = nullptr;
+    N_Vector y = nullptr;
+    SUNMatrix A = nullptr;
+    SUNLinearSolver LS = nullptr;
+    void* mem = nullptr;
+    bool initialized = false;
+    double t_last = 0;
+    std::vector<double> y_last, J, q, v;
+    std::exception_ptr error;  ///< thrown by the model inside a callback: rethrown after CVode returns
+    std::string message;       ///< CVODE's last error message
+
+    /// y' = (q', q'').
+    static int rhs(sunrealtype t, N_Vector yv, N_Vector ydot, void* data) {
+        auto& k = *static_cast<Impl*>(data);
+        const double* y = N_VGetArrayPointer(yv);
+        double* d = N_VGetArrayPointer(ydot);
+        try {
+            for (std::size_t i = 0; i < k.n; ++i) d[i] = y[k.n + i];
+            k.sys.accelerations(t, std::span<const double>(y, k.n), std::span<const double>(y + k.n, k.n),
+                                std::span<double>(d + k.n, k.n));
+        } catch (...) {
+            k.error = std::current_exception();
+            return -1; // unrecoverable: CVode returns, the exception is rethrown
+        }
+        return 0;
+    }
+
+    /// The exact ∂y'/∂y into CVODE's dense (column-major) matrix.
+    static int jacobian(sunrealtype t, N_Vector yv, N_Vector, SUNMatrix Jm, void* data, N_Vector, N_Vector, N_Vector) {
+        auto& k = *static_cast<Impl*>(data);
+        const double* y = N_VGetArrayPointer(yv);
+        try {
+            k.sys.rhs_jacobian(t, std::span<const double>(y, k.n), std::span<const double>(y + k.n, k.n), k.J);
+        } catch (...) {
+            k.error = std::current_exception();
+            return -1;
+        }
+        for (std::size_t i = 0; i < k.N; ++i)
+            for (std::size_t j = 0; j < k.N; ++j)
+                SM_ELEMENT_D(Jm, static_cast<sunindextype>(i), static_cast<sunindextype>(j)) = k.J[i * k.N + j];
+        return 0;
+    }
+
+    /// Constrained models: the correction onto the constraints after each step.
+    static int project(sunrealtype t, N_Vector yv, N_Vector corr, sunrealtype, N_Vector, void* data) {
+        auto& k = *static_cast<Impl*>(data);
+        const double* y = N_VGetArrayPointer(yv);
+        double* c = N_VGetArrayPointer(corr);
+        try {
+            for (std::size_t i = 0; i < k.n; ++i) {
+                k.q[i] = y[i];
+                k.v[i] = y[k.n + i];
+            }
+            project_onto_constraints(k.sys, t, k.q, k.v, k.opt.projection);
+            for (std::size_t i = 0; i < k.n; ++i) {
+                c[i] = k.q[i] - y[i];
+                c[k.n + i] = k.v[i] - y[k.n + i];
+            }
+        } catch (...) {
+            k.error = std::current_exception();
+            return -1;
+        }
+        return 0;
+    }
+
+    static void on_error(int, const char* module, const char* function, char* msg, void* data) {
+        static_cast<Impl*>(data)->message = std::string(module) + "::" + function + ": " + msg;
+    }
+
+    void check(int flag, const char* what) const {
+        if (flag < 0) throw std::runtime_error(std::string("CVODE setup failed in ") + what + ": " + CVodeGetReturnFlagName(flag));
+    }
+
+    ~Impl() {
+        if (mem) CVodeFree(&mem);
+        if (LS) SUNLinSolFree(LS);
+        if (A) SUNMatDestroy(A);
+        if (y) N_VDestroy(y);
+        if (ctx) SUNContext_Free(&ctx);
+    }
+};
+
+Cvode::Cvode(LagrangianSystem system, Options options) : impl_(std::make_unique<Impl>()) {
+    auto& k = *impl_;
+    if (options.exact_jacobian && !system.rhs_jacobian)
+        throw std::invalid_argument("Cvode: the system has no rhs_jacobian (set Options.exact_jacobian = false)");
+    if (!(options.rtol > 0) || !(options.atol > 0))
+        throw std::invalid_argument("Cvode: rtol and atol must be positive");
+    k.sys = std::move(system);
+    k.opt = options;
+    k.n = k.sys.dof;
+    k.N = 2 * k.n;
+    k.J.assign(k.N * k.N, 0.0);
+    k.q.assign(k.n, 0.0);
+    k.v.assign(k.n, 0.0);
+    k.check(SUNContext_Create(nullptr, &k.ctx), "SUNContext_Create");
+    const auto N = static_cast<sunindextype>(k.N);
+    k.y = N_VNew_Serial(N, k.ctx);
+    k.A = SUNDenseMatrix(N, N, k.ctx);
+    k.LS = SUNLinSol_Dense(k.y, k.A, k.ctx);
+    k.mem = CVodeCreate(CV_BDF, k.ctx);
+    if (!k.y || !k.A || !k.LS || !k.mem) throw std::runtime_error("Cvode: out of memory");
+}
+
+Cvode::~Cvode() = default;
+
+void Cvode::advance(World& w, double t_end) {
+    auto& k = *impl_;
+    double* y = N_VGetArrayPointer(k.y);
+    // continue only from where the last call left the state
+    bool same = k.initialized && w.time == k.t_last;
+    for (std::size_t i = 0; i < k.n && same; ++i)
+        same = w.at(kGQ, static_cast<Index>(i)) == k.y_last[i] && w.at(kGV, static_cast<Index>(i)) == k.y_last[k.n + i];
+    if (!same) {
+        for (std::size_t i = 0; i < k.n; ++i) {
+            y[i] = w.at(kGQ, static_cast<Index>(i));
+            y[k.n + i] = w.at(kGV, static_cast<Index>(i));
+        }
+        if (!k.initialized) {
+            k.check(CVodeInit(k.mem, Impl::rhs, w.time, k.y), "CVodeInit");
+            k.check(CVodeSetUserData(k.mem, &k), "CVodeSetUserData");
+            k.check(CVodeSetErrHandlerFn(k.mem, Impl::on_error, &k), "CVodeSetErrHandlerFn");
+            k.check(CVodeSStolerances(k.mem, k.opt.rtol, k.opt.atol), "CVodeSStolerances");
+            k.check(CVodeSetLinearSolver(k.mem, k.LS, k.A), "CVodeSetLinearSolver");
+            if (k.opt.exact_jacobian) k.check(CVodeSetJacFn(k.mem, Impl::jacobian), "CVodeSetJacFn");
+            k.check(CVodeSetMaxNumSteps(k.mem, k.opt.max_steps), "CVodeSetMaxNumSteps");
+            if (k.sys.n_constraints > 0) k.check(CVodeSetProjFn(k.mem, Impl::project), "CVodeSetProjFn");
+            k.initialized = true;
+        } else {
+            k.check(CVodeReInit(k.mem, w.time, k.y), "CVodeReInit");
+        }
+    }
+    if (t_end == w.time) return;
+    // no stop time: CVODE steps past t_end where its error control allows and interpolates
+    // back (CV_NORMAL); the next call continues from its internal state
+    double t_reached = w.time;
+    k.error = nullptr;
+    k.message.clear();
+    const int flag = CVode(k.mem, t_end, k.y, &t_reached, CV_NORMAL);
+    for (std::size_t i = 0; i < k.n; ++i) {
+        w.at(kGQ, static_cast<Index>(i)) = y[i];
+        w.at(kGV, static_cast<Index>(i)) = y[k.n + i];
+    }
+    w.time = flag < 0 ? t_reached : t_end;
+    // constrained: CVODE projects its steps, not the interpolant between them; project the
+    // output too (CVODE's own state is left as it is, and the next call continues from it)
+    if (k.sys.n_constraints > 0 && flag >= 0 && !k.error)
+        project_onto_constraints(k.sys, w.time, w.field(kGQ), w.field(kGV), k.opt.projection);
+    k.t_last = w.time;
+    k.y_last.resize(k.N);
+    for (std::size_t i = 0; i < k.n; ++i) {
+        k.y_last[i] = w.at(kGQ, static_cast<Index>(i));
+        k.y_last[k.n + i] = w.at(kGV, static_cast<Index>(i));
+    }
+    if (k.error) std::rethrow_exception(k.error);
+    if (flag < 0)
+        throw ConvergenceError("CVODE stopped at t = " + std::to_string(t_reached) + ": " + CVodeGetReturnFlagName(flag) +
+                               (k.message.empty() ? "" : " (" + k.message + ")"));
+}
+
+Cvode::Stats Cvode::stats() const {
+    Stats s;
+    const auto& k = *impl_;
+    if (!k.initialized) return s;
+    CVodeGetNumSteps(k.mem, &s.steps);
+    CVodeGetNumRhsEvals(k.mem, &s.rhs_evaluations);
+    CVodeGetNumJacEvals(k.mem, &s.jacobian_evaluations);
+    CVodeGetNumLinRhsEvals(k.mem, &s.difference_quotient_rhs);
+    CVodeGetNumNonlinSolvIters(k.mem, &s.newton_iterations);
+    CVodeGetNumErrTestFails(k.mem, &s.error_test_failures);
+    return s;
+}
+
+NumericWorkflow lagrangian_cvode(const LagrangianSystem& s, const std::shared_ptr<const Layout>& layout,
+                                 const Cvode::Options& options) {
+    const ComponentSet all = ComponentSet::range(0, static_cast<Index>(s.dof));
+    auto solver = std::make_shared<Cvode>(s, options);
+    NumericRule r{"cvode", Domain(kGQ, all) | Domain(kGV, all), {}, nullptr, layout};
+    r.step = [solver](double dt, World& w) {
+        const double t0 = w.time;
+        solver->advance(w, t0 + dt);
+        w.time = t0; // the interpreter advances the time
+    };
+    return NumericWorkflow::run(r);
+}
+
+} // namespace phynjo::runtime

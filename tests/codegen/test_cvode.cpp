@@ -1,0 +1,122 @@
+// SUNDIALS CVODE for generated models (integrators/cvode.hpp): against RK4 at tight
+// tolerances, with the exact Jacobian and with CVODE's difference quotients, constraints
+// kept by its projection, errors as the runtime's typed errors, restarts.
+#include "cartesian_pendulum.hpp"
+#include "double_pendulum.hpp"
+#include "driven.hpp"
+#include "four_bar.hpp"
+#include "spherical_pendulum.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+using namespace phynjo::runtime;
+
+namespace {
+
+/// The largest difference of q and q' between two worlds.
+double difference(const World& a, const World& b, std::size_t n) {
+    double d = 0;
+    for (auto f : {kGQ, kGV})
+        for (std::size_t i = 0; i < n; ++i) d = std::max(d, std::fabs(a.at(f, i) - b.at(f, i)));
+    return d;
+}
+
+World rk4_reference(const LagrangianSystem& s, double t_end, double dt) {
+    World w = make_lagrangian_world(s);
+    Stepper st(lagrangian_rk4(s, w.layout_ptr()));
+    const long steps = std::lround(t_end / dt);
+    for (long k = 0; k < steps; ++k) st.step(w, dt);
+    return w;
+}
+
+} // namespace
+
+// Bugs caught: a wrong right side (q' and q'' swapped), the Jacobian's layout (row-major
+// handed to CVODE's column-major matrix: Newton then diverges or crawls), the interpolated
+// output at the end of a call, the continuation across calls.
+TEST_CASE("CVODE = RK4 at tight tolerances (double pendulum 2 s, driven model with inputs and t)", "[codegen][cvode]") {
+    for (const LagrangianSystem& s : {double_pendulum::system({}), driven::system({})}) {
+        INFO(s.coordinate_names[0]);
+        const World ref = rk4_reference(s, 2.0, 1e-4);
+        for (bool exact : {true, false}) {
+            World w = make_lagrangian_world(s);
+            Cvode cv(s, {.rtol = 1e-12, .atol = 1e-12, .exact_jacobian = exact});
+            for (int k = 1; k <= 20; ++k) cv.advance(w, 0.1 * k); // 20 calls: the history carries over
+            CHECK(w.time == 2.0);
+            CHECK(difference(w, ref, s.dof) < 1e-8);
+            const auto st = cv.stats();
+            CHECK(st.steps > 0);
+            if (exact) {
+                CHECK(st.jacobian_evaluations > 0);
+                CHECK(st.difference_quotient_rhs == 0); // the exact Jacobian, not difference quotients
+            } else
+                CHECK(st.difference_quotient_rhs > 0);
+        }
+    }
+}
+
+// Bug caught: CVODE on the index-1 equations without the projection: the Cartesian pendulum's
+// rod length drifts; a projection correction with the wrong sign.
+TEST_CASE("CVODE keeps the constraints (projection): Cartesian pendulum, four-bar over 10 s", "[codegen][cvode]") {
+    for (const LagrangianSystem& s : {cartesian_pendulum::system({}), four_bar::system({})}) {
+        World w = make_lagrangian_world(s);
+        Cvode cv(s, {.rtol = 1e-8, .atol = 1e-10});
+        double worst = 0;
+        for (int k = 1; k <= 100; ++k) {
+            cv.advance(w, 0.1 * k);
+            worst = std::max(worst, worst_constraint_violation(s, w.time, w.field(kGQ), w.field(kGV)).scaled);
+        }
+        INFO(s.coordinate_names[0]);
+        CHECK(worst < 1e-10);
+        CHECK(s.energy(w.time, w.field(kGQ), w.field(kGV)) ==
+              Approx(s.energy(0, make_lagrangian_world(s).field(kGQ), make_lagrangian_world(s).field(kGV))).epsilon(1e-5));
+    }
+}
+
+// Bugs caught: an exception thrown through CVODE's C code (undefined behaviour), a NaN
+// state returned as if fine, the time reached lost.
+TEST_CASE("CVODE: errors are the runtime's typed errors, at the time reached", "[codegen][cvode]") {
+    const LagrangianSystem s = spherical_pendulum::system({});
+    World w = make_lagrangian_world(s);
+    w.at(kGQ, 0) = 0; // the pole: M = diag(m l^2, m l^2 sin(th)^2) is singular
+    Cvode cv(s, {});
+    CHECK_THROWS_AS(cv.advance(w, 1.0), SingularMassMatrix);
+    CHECK(w.time == 0);
+    CHECK_THROWS_AS((Cvode(s, {.rtol = -1})), std::invalid_argument);
+    LagrangianSystem no_jacobian = s;
+    no_jacobian.rhs_jacobian = nullptr;
+    CHECK_THROWS_AS((Cvode(no_jacobian, {})), std::invalid_argument);
+    // too few internal steps allowed: a ConvergenceError naming CVODE's flag and the time
+    World d = make_lagrangian_world(double_pendulum::system({}));
+    Cvode tight(double_pendulum::system({}), {.rtol = 1e-12, .atol = 1e-14, .max_steps = 10});
+    try {
+        tight.advance(d, 5.0);
+        FAIL("expected a ConvergenceError");
+    } catch (const ConvergenceError& e) {
+        CHECK(std::string(e.what()).find("CV_TOO_MUCH_WORK") != std::string::npos);
+        CHECK(d.time > 0);
+        CHECK(d.time < 5.0);
+    }
+}
+
+// Bugs caught: the workflow rule advancing the time twice, a world changed between steps not
+// restarting the solver (the old history applied to a new state).
+TEST_CASE("CVODE as a workflow: the generated workflow(\"cvode\"), restarts on a changed world", "[codegen][cvode]") {
+    const double_pendulum::Parameters P;
+    World a = double_pendulum::make_world(P), b = a;
+    Stepper st(double_pendulum::workflow(P, a, "cvode"));
+    for (int k = 0; k < 10; ++k) st.step(a, 0.1);
+    Cvode cv(double_pendulum::system(P), {});
+    for (int k = 1; k <= 10; ++k) cv.advance(b, b.time + 0.1); // the times the interpreter reaches
+    CHECK(std::fabs(a.time - 1.0) < 1e-15);
+    CHECK(difference(a, b, 2) == 0); // the same solver, the same calls: bit for bit
+    // change the state by hand: the next step starts afresh from it, as a new solver would
+    a.at(kGV, 0) = 0.5;
+    World c = a;
+    st.step(a, 0.1);
+    Cvode fresh(double_pendulum::system(P), {});
+    fresh.advance(c, c.time + 0.1);
+    CHECK(difference(a, c, 2) == 0);
+}
