@@ -146,6 +146,9 @@ std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const N
           << "                   std::span<double> qddot) {\n"
           << sizes("accelerations", {{"q", n}, {"qdot", n}, {"qddot", n}}) << unused(uses_t, uses_p) << b;
         auto fi = [&](std::size_t i) { return res[upper.size() + i]; };
+        bool diagonal = true;
+        for (std::size_t i = 0; i < n; ++i)
+            for (std::size_t j = i + 1; j < n; ++j) diagonal = diagonal && eom.mass_matrix[i * n + j].is_zero();
         if (n == 1) {
             s << "    const double m00 = " << Mij(0, 0) << ";\n"
               << "    if (m00 == 0) throw phynjo::runtime::SingularMassMatrix(\"" << m.name
@@ -161,6 +164,18 @@ std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const N
               << "    const double inv = 1.0/det;\n"
               << "    qddot[0] = (m11*f0 - m01*f1)*inv;\n"
               << "    qddot[1] = (m00*f1 - m01*f0)*inv;\n";
+        } else if (diagonal) {
+            // M diagonal for every state (particles in Cartesian coordinates): q''_i = f_i/M_ii,
+            // the same numbers LDLᵀ gives for a diagonal matrix, without its O(n³) work
+            s << "    double d[" << n << "] = {";
+            for (std::size_t i = 0; i < n; ++i) s << (i ? ", " : "") << Mij(i, i);
+            s << "};\n    double top = 0;\n"
+              << "    for (double v : d) top = std::max(top, std::fabs(v));\n"
+              << "    for (double v : d)\n"
+              << "        if (!(std::fabs(v) > phynjo::runtime::kSingularTolerance * top))\n"
+              << "            throw phynjo::runtime::SingularMassMatrix(\"" << m.name
+              << "::accelerations: the mass matrix is singular\");\n";
+            for (std::size_t i = 0; i < n; ++i) s << "    qddot[" << i << "] = (" << fi(i) << ")/d[" << i << "];\n";
         } else {
             s << "    double A[" << n * n << "] = {";
             for (std::size_t i = 0; i < n; ++i)

@@ -25,6 +25,7 @@
 #include "slider_crank.hpp"
 #include "spherical_pendulum.hpp"
 #include "spring_pendulum.hpp"
+#include "stiff_chain.hpp"
 #include "triple_pendulum.hpp"
 
 #include <catch2/catch.hpp>
@@ -90,6 +91,7 @@ std::vector<Spec> all_models() {
             PHYNJO_SPEC(relativistic),
             PHYNJO_SPEC(quartic),
             PHYNJO_SPEC(functions),
+            PHYNJO_SPEC(stiff_chain),
             PHYNJO_SPEC(driven, &driven::Parameters::u, &driven::Parameters::w),
             PHYNJO_SPEC(cartesian_pendulum),
             PHYNJO_SPEC(atwood),
@@ -312,4 +314,28 @@ TEST_CASE("implicit midpoint: Newton converges quadratically (at most 5 Jacobian
         INFO(s.coordinate_names[0]);
         CHECK(worst <= 5);
     }
+}
+
+// Bugs caught: the diagonal-M path of the generated accelerations dividing by the wrong
+// entry, or rounding differently from the LDLᵀ path it replaces; a zero mass not reported.
+TEST_CASE("diagonal mass matrix: accelerations f_i/M_ii, the same bits as the LDLT solve", "[codegen][jacobians]") {
+    stiff_chain::Parameters P;
+    P.m = 1.7;
+    std::mt19937_64 rng(5);
+    std::normal_distribution<double> d(0, 1);
+    for (int k = 0; k < 50; ++k) {
+        double q[3], v[3], a[3], M[9], f[3];
+        for (int i = 0; i < 3; ++i) {
+            q[i] = d(rng);
+            v[i] = d(rng);
+        }
+        stiff_chain::accelerations(P, 0, q, v, a);
+        stiff_chain::mass_matrix(P, 0, q, M);
+        stiff_chain::forcing(P, 0, q, v, f);
+        phynjo::runtime::solve_symmetric<3>(M, f);
+        for (int i = 0; i < 3; ++i) CHECK(a[i] == f[i]);
+    }
+    P.m = 0;
+    double q[3] = {0, 0, 0}, v[3] = {0, 0, 0}, a[3];
+    CHECK_THROWS_AS(stiff_chain::accelerations(P, 0, q, v, a), phynjo::runtime::SingularMassMatrix);
 }

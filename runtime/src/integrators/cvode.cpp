@@ -188,6 +188,7 @@ Cvode::Stats Cvode::stats() const {
     CVodeGetNumJacEvals(k.mem, &s.jacobian_evaluations);
     CVodeGetNumLinRhsEvals(k.mem, &s.difference_quotient_rhs);
     CVodeGetNumNonlinSolvIters(k.mem, &s.newton_iterations);
+    CVodeGetNumNonlinSolvConvFails(k.mem, &s.newton_failures);
     CVodeGetNumErrTestFails(k.mem, &s.error_test_failures);
     return s;
 }

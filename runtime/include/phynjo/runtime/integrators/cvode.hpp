@@ -28,7 +28,7 @@ public:
     /// Counters since construction (CVODE's own).
     struct Stats {
         long steps = 0, rhs_evaluations = 0, jacobian_evaluations = 0, difference_quotient_rhs = 0,
-             newton_iterations = 0, error_test_failures = 0;
+             newton_iterations = 0, newton_failures = 0, error_test_failures = 0;
     };
     /// Throws std::invalid_argument for a system without rhs_jacobian when exact_jacobian is set.
     Cvode(LagrangianSystem system, Options options);
