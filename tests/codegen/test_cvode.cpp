@@ -51,6 +51,7 @@ TEST_CASE("CVODE = RK4 at tight tolerances (double pendulum 2 s, driven model wi
             if (exact) {
                 CHECK(st.jacobian_evaluations > 0);
                 CHECK(st.difference_quotient_rhs == 0); // the exact Jacobian, not difference quotients
+                CHECK(st.newton_failures == 0);         // and a right one: Newton converges at every step
             } else
                 CHECK(st.difference_quotient_rhs > 0);
         }
