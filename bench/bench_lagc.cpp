@@ -5,8 +5,10 @@
 //  * generated code size: the operation count of the CSE'd M and f, both counted by SymPy's
 //    count_ops (phynjo's expressions are handed to SymPy as text).
 // Prints `ratio lagc_compile_N = SymPy time / phynjo time` and `ratio lagc_ops_N = SymPy
-// operations / phynjo operations` (above 1: phynjo emits fewer).
-//   usage: bench_lagc [--sympy-max-n N]   (default 20)
+// operations / phynjo operations` (above 1: phynjo emits fewer); and, SymPy computing also
+// forcing_full.jacobian(q, u) and CSE'ing it with M and f (phynjo-lagc always emits its
+// Jacobians), `ratio lagc_jacobian_N = that SymPy time / phynjo time`.
+//   usage: bench_lagc [--sympy-max-n N] [--sympy-jacobian-max-n N]   (defaults 20 and 10)
 #include "bench_util.hpp"
 
 #include <unistd.h>
@@ -43,9 +45,11 @@ double read_value(const std::string& cmd, const std::string& key) {
 } // namespace
 
 int main(int argc, char** argv) {
-    int sympy_max_n = 20;
-    for (int i = 1; i + 1 < argc; i += 2)
+    int sympy_max_n = 20, sympy_jacobian_max_n = 10;
+    for (int i = 1; i + 1 < argc; i += 2) {
         if (std::string(argv[i]) == "--sympy-max-n") sympy_max_n = std::atoi(argv[i + 1]);
+        if (std::string(argv[i]) == "--sympy-jacobian-max-n") sympy_jacobian_max_n = std::atoi(argv[i + 1]);
+    }
     const bool have_sympy = std::system("python3 -c 'import sympy' >/dev/null 2>&1") == 0;
     const std::string tmp = "/tmp/phynjo_bench_lagc_" + std::to_string(::getpid());
     std::printf("bench_lagc: nlink_cart(N) from the .lag file to C++, and the size of the generated M and f\n");
@@ -81,6 +85,20 @@ int main(int argc, char** argv) {
         std::printf("    sympy: %.3f s, %.0f operations after cse\n", s_time, s_ops);
         std::printf("ratio lagc_compile_%d = %.1f\n", n, s_time / best);
         std::printf("ratio lagc_ops_%d = %.2f\n", n, s_ops / ops);
+        if (n > sympy_jacobian_max_n) continue;
+        // the same with the Jacobian of f, which phynjo-lagc always emits (rhs_jacobian)
+        double j_time = -1;
+        if (FILE* pj = popen(("python3 " PHYNJO_SOURCE_DIR "/bench/sympy_nlink_compile.py --jacobian " + std::to_string(n)).c_str(), "r")) {
+            while (std::fgets(line, sizeof line, pj))
+                if (std::string(line).rfind("seconds ", 0) == 0) j_time = std::atof(line + 8);
+            pclose(pj);
+        }
+        if (j_time < 0) {
+            std::printf("    sympy with forcing_full.jacobian: failed to run\n");
+            continue;
+        }
+        std::printf("    sympy with forcing_full.jacobian(q, u): %.3f s\n", j_time);
+        std::printf("ratio lagc_jacobian_%d = %.1f\n", n, j_time / best);
     }
     std::remove((tmp + ".cpp").c_str());
     std::remove((tmp + ".hpp").c_str());

@@ -5,10 +5,13 @@ SymPy's own model of the system, sympy.physics.mechanics.models.n_link_pendulum_
 (Kane's method, with the cart force), its mass_matrix_full and forcing_full, common
 subexpression elimination (sympy.cse) and C code for every entry (sympy.ccode). Prints the
 seconds taken and the operation count (sympy.count_ops) of the CSE'd M and f.
+With --jacobian it also computes forcing_full.jacobian(states) — what an implicit or stiff
+solver, or a linearization, needs — and CSEs and prints it with M and f (phynjo-lagc always
+emits its Jacobians: the reference for `ratio lagc_jacobian_N`).
 With --count FILE it instead counts the operations of expressions written by phynjo
 (one `name = expr` per line, the .lag expression syntax) with the same counter.
 
-usage: sympy_nlink_compile.py N | sympy_nlink_compile.py --count FILE
+usage: sympy_nlink_compile.py [--jacobian] N | sympy_nlink_compile.py --count FILE
 """
 import re
 import sys
@@ -31,14 +34,14 @@ def count_file(path):
     return total
 
 
-def c_code(M, f, start):
-    """cse and C code of every entry of M and f, as PyDy prints it: seconds since `start`, the
-    operation count of the CSE'd expressions and the characters of C."""
+def c_code(M, f, start, J=None):
+    """cse and C code of every entry of M and f (and J), as PyDy prints it: seconds since
+    `start`, the operation count of the CSE'd expressions and the characters of C."""
     from sympy.physics.mechanics import find_dynamicsymbols
     # q_i(t), u_i(t) -> plain symbols, as PyDy does before printing code
     dyn = sorted(find_dynamicsymbols(M) | find_dynamicsymbols(f), key=str)
     plain = {x: sp.Symbol('s_%d' % k) for k, x in enumerate(dyn)}
-    exprs = [e.xreplace(plain) for e in list(M) + list(f)]
+    exprs = [e.xreplace(plain) for e in list(M) + list(f) + (list(J) if J is not None else [])]
     replacements, reduced = sp.cse(exprs)
     code = [sp.ccode(e, assign_to=str(s)) for s, e in replacements] + [sp.ccode(e) for e in reduced]
     elapsed = time.perf_counter() - start
@@ -51,12 +54,14 @@ def main():
         print('ops %d' % count_file(sys.argv[2]))
         return
     from sympy.physics.mechanics.models import n_link_pendulum_on_cart
-    n = int(sys.argv[1])
+    jacobian = sys.argv[1] == '--jacobian'
+    n = int(sys.argv[2] if jacobian else sys.argv[1])
     start = time.perf_counter()
     kane = n_link_pendulum_on_cart(n, cart_force=True, joint_torques=False)
     M = kane.mass_matrix_full
     f = kane.forcing_full
-    elapsed, ops, chars = c_code(M, f, start)
+    J = f.jacobian(list(kane.q) + list(kane.u)) if jacobian else None
+    elapsed, ops, chars = c_code(M, f, start, J)
     print('seconds %.6f' % elapsed)
     print('ops %d' % ops)
     print('code_chars %d' % chars)
