@@ -8,12 +8,25 @@
 #include <sunlinsol/sunlinsol_dense.h>
 #include <sunmatrix/sunmatrix_dense.h>
 
+#include <cstdlib>
 #include <exception>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 namespace phynjo::runtime {
+
+namespace {
+
+/// CVODE's name of a return flag (CVodeGetReturnFlagName allocates it: freed here).
+std::string flag_name(long flag) {
+    char* p = CVodeGetReturnFlagName(flag);
+    std::string name = p ? p : "unknown flag";
+    std::free(p);
+    return name;
+}
+
+} // namespace
 
 struct Cvode::Impl {
     LagrangianSystem sys;
@@ -89,7 +102,7 @@ struct Cvode::Impl {
     }
 
     void check(int flag, const char* what) const {
-        if (flag < 0) throw std::runtime_error(std::string("CVODE setup failed in ") + what + ": " + CVodeGetReturnFlagName(flag));
+        if (flag < 0) throw std::runtime_error(std::string("CVODE setup failed in ") + what + ": " + flag_name(flag));
     }
 
     ~Impl() {
@@ -175,7 +188,7 @@ void Cvode::advance(World& w, double t_end) {
     }
     if (k.error) std::rethrow_exception(k.error);
     if (flag < 0)
-        throw ConvergenceError("CVODE stopped at t = " + std::to_string(t_reached) + ": " + CVodeGetReturnFlagName(flag) +
+        throw ConvergenceError("CVODE stopped at t = " + std::to_string(t_reached) + ": " + flag_name(flag) +
                                (k.message.empty() ? "" : " (" + k.message + ")"));
 }
 
