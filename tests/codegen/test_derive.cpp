@@ -4,6 +4,8 @@
 #include "phynjo/codegen/frontend.hpp"
 #include "phynjo/grammar/expression.hpp"
 
+#include "compiled_model.hpp"
+
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -14,15 +16,7 @@ using cas::Expr;
 
 namespace {
 
-codegen::EquationsOfMotion eom_of(std::string_view text) {
-    grammar::DiagnosticSink sink("m.lag", text);
-    auto model = codegen::read_model(text, "m.lag", sink);
-    INFO(sink.format_all());
-    REQUIRE(model);
-    auto eom = codegen::derive(*model, sink);
-    REQUIRE(eom);
-    return *eom;
-}
+codegen::EquationsOfMotion eom_of(std::string_view text) { return test::compile_model(text).eom; }
 
 /// e1 − e2 evaluated at random points is 0 (to 1e-12 relative): equal as functions.
 bool same_function(Expr a, Expr b) {

@@ -7,6 +7,8 @@
 #include "phynjo/codegen/linearize.hpp"
 #include "phynjo/grammar/expression.hpp"
 
+#include "compiled_model.hpp"
+
 #include <catch2/catch.hpp>
 
 #include <Eigen/Dense>
@@ -20,20 +22,12 @@ using cas::Expr;
 
 namespace {
 
-struct Compiled {
-    codegen::Model model;
-    codegen::EquationsOfMotion eom;
-};
+using test::Compiled;
 
 Compiled compile(std::string_view text) {
-    grammar::DiagnosticSink sink("m.lag", text);
-    auto model = codegen::read_model(text, "m.lag", sink);
-    INFO(sink.format_all());
-    REQUIRE(model);
-    auto eom = codegen::derive(*model, sink);
-    REQUIRE(eom);
-    codegen::derive_jacobians(*model, *eom);
-    return {*model, *eom};
+    Compiled c = test::compile_model(text);
+    codegen::derive_jacobians(c.model, c.eom);
+    return c;
 }
 
 std::string file(const std::string& path) {
