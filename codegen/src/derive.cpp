@@ -258,7 +258,9 @@ void derive_jacobians(const Model& model, EquationsOfMotion& eom) {
     for (std::size_t j = 0; j < 2 * n; ++j) {
         for (std::size_t i = 0; i < n; ++i) {
             eom.jacobian_r[i * 2 * n + j] = cas::diff(r[i], y[j]);
-            eom.momenta_jacobian[i * 2 * n + j] = cas::diff(eom.momenta[i], y[j]);
+            // ∂p/∂q' is M, already derived
+            eom.momenta_jacobian[i * 2 * n + j] =
+                j < n ? cas::diff(eom.momenta[i], y[j]) : eom.mass_matrix[i * n + (j - n)];
             eom.force_jacobian[i * 2 * n + j] = cas::diff(eom.generalized_forces[i], y[j]);
         }
         for (std::size_t k = 0; k < m; ++k) eom.jacobian_c[k * 2 * n + j] = cas::diff(c[k], y[j]);
