@@ -2,7 +2,7 @@
 # A constrained model through phynjo-lagc and its command-line simulator: --emit=eom/latex
 # show G, gamma and the multipliers; inconsistent initial values stop the run with the
 # constraint named (exit 1) unless --project-initial projects them (and says what changed);
-# every integrator keeps the rod length; the CSV carries the multiplier column.
+# every integrator (IDA and CVODE included) keeps the rod length; the CSV carries the multiplier column.
 # Catches: a simulator that starts from a state off the constraints silently, a projection
 # that does not report or does not land on the manifold, a missing lambda column.
 #   usage: test_constrained_main.sh PHYNJO-LAGC MODEL.lag SIMULATOR
@@ -32,10 +32,15 @@ echo "$eom" | grep -qx 'G(1,1) = 2\*x' && echo "$eom" | grep -qx "gamma(1) = -2\
 "$sim" --project-initial --t-end 0 >/dev/null 2>"$work/err" && grep -q "nothing changed" "$work/err" \
   && ok "--project-initial on a consistent state: nothing changed" || bad "--project-initial consistent: $(cat "$work/err")"
 
-for integ in rk4 dopri midpoint rattle; do
+for integ in rk4 dopri midpoint rattle cvode ida; do
   "$sim" --integrator $integ --t-end 5 -o "$work/$integ.csv" 2>"$work/err"
   worst=$(awk -F, 'NR > 1 { r = $2*$2 + $3*$3 - 1; if (r < 0) r = -r; if (r > w) w = r } END { printf "%.3g", w }' "$work/$integ.csv")
   awk -v w="$worst" 'BEGIN { exit !(w < 1e-11) }' && ok "$integ keeps x^2 + y^2 = 1 (worst $worst)" || bad "$integ: rod drift $worst"
 done
+"$sim" --integrator ida --rtol 1e-9 --atol 1e-11 --t-end 1 -o /dev/null 2>"$work/err" \
+  && grep -Eq "^ida: [0-9]+ steps, [0-9]+ Jacobians" "$work/err" && ok "ida: --rtol/--atol taken, step counts on stderr" \
+  || bad "ida step counts: $(cat "$work/err")"
+"$sim" --integrator rk4 --rtol 1e-9 2>"$work/err"; [ $? -eq 2 ] && grep -q "cvode, ida or dopri" "$work/err" \
+  && ok "--rtol without cvode, ida or dopri: usage error" || bad "--rtol with rk4: $(cat "$work/err")"
 "$sim" --projection-tolerance 0 2>/dev/null; [ $? -eq 2 ] && ok "--projection-tolerance 0: usage error" || bad "--projection-tolerance 0"
 finish

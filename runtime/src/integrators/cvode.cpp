@@ -2,6 +2,8 @@
 // exact Jacobian. See integrators/cvode.hpp.
 #include "phynjo/runtime/integrators/cvode.hpp"
 
+#include "sundials_support.hpp"
+
 #include <cvode/cvode.h>
 #include <cvode/cvode_proj.h>
 #include <nvector/nvector_serial.h>
@@ -18,13 +20,7 @@ namespace phynjo::runtime {
 
 namespace {
 
-/// CVODE's name of a return flag (CVodeGetReturnFlagName allocates it: freed here).
-std::string flag_name(long flag) {
-    char* p = CVodeGetReturnFlagName(flag);
-    std::string name = p ? p : "unknown flag";
-    std::free(p);
-    return name;
-}
+std::string flag_name(long flag) { return sundials::flag_name(CVodeGetReturnFlagName, flag); }
 
 } // namespace
 
@@ -38,8 +34,8 @@ struct Cvode::Impl {
     SUNLinearSolver LS = nullptr;
     void* mem = nullptr;
     bool initialized = false;
-    double t_last = 0;
-    std::vector<double> y_last, J, q, v;
+    sundials::LastState last;
+    std::vector<double> J, q, v;
     std::exception_ptr error;  ///< thrown by the model inside a callback: rethrown after CVode returns
     std::string message;       ///< CVODE's last error message
 
@@ -101,9 +97,7 @@ struct Cvode::Impl {
         static_cast<Impl*>(data)->message = std::string(module) + "::" + function + ": " + msg;
     }
 
-    void check(int flag, const char* what) const {
-        if (flag < 0) throw std::runtime_error(std::string("CVODE setup failed in ") + what + ": " + flag_name(flag));
-    }
+    static void check(int flag, const char* what) { sundials::check_setup(flag, "CVODE", what, CVodeGetReturnFlagName); }
 
     ~Impl() {
         if (mem) CVodeFree(&mem);
@@ -142,10 +136,7 @@ void Cvode::advance(World& w, double t_end) {
     auto& k = *impl_;
     double* y = N_VGetArrayPointer(k.y);
     // continue only from where the last call left the state
-    bool same = k.initialized && w.time == k.t_last;
-    for (std::size_t i = 0; i < k.n && same; ++i)
-        same = w.at(kGQ, static_cast<Index>(i)) == k.y_last[i] && w.at(kGV, static_cast<Index>(i)) == k.y_last[k.n + i];
-    if (!same) {
+    if (!k.last.matches(w, k.n)) {
         for (std::size_t i = 0; i < k.n; ++i) {
             y[i] = w.at(kGQ, static_cast<Index>(i));
             y[k.n + i] = w.at(kGV, static_cast<Index>(i));
@@ -180,12 +171,7 @@ void Cvode::advance(World& w, double t_end) {
     // output too (CVODE's own state is left as it is, and the next call continues from it)
     if (k.sys.n_constraints > 0 && flag >= 0 && !k.error)
         project_onto_constraints(k.sys, w.time, w.field(kGQ), w.field(kGV), k.opt.projection);
-    k.t_last = w.time;
-    k.y_last.resize(k.N);
-    for (std::size_t i = 0; i < k.n; ++i) {
-        k.y_last[i] = w.at(kGQ, static_cast<Index>(i));
-        k.y_last[k.n + i] = w.at(kGV, static_cast<Index>(i));
-    }
+    k.last.remember(w, k.n);
     if (k.error) std::rethrow_exception(k.error);
     if (flag < 0)
         throw ConvergenceError("CVODE stopped at t = " + std::to_string(t_reached) + ": " + flag_name(flag) +
@@ -207,16 +193,8 @@ Cvode::Stats Cvode::stats() const {
 }
 
 NumericWorkflow lagrangian_cvode(const LagrangianSystem& s, const std::shared_ptr<const Layout>& layout,
-                                 const Cvode::Options& options) {
-    const ComponentSet all = ComponentSet::range(0, static_cast<Index>(s.dof));
-    auto solver = std::make_shared<Cvode>(s, options);
-    NumericRule r{"cvode", Domain(kGQ, all) | Domain(kGV, all), {}, nullptr, layout};
-    r.step = [solver](double dt, World& w) {
-        const double t0 = w.time;
-        solver->advance(w, t0 + dt);
-        w.time = t0; // the interpreter advances the time
-    };
-    return NumericWorkflow::run(r);
+                               const Cvode::Options& options) {
+    return sundials::solver_workflow("cvode", std::make_shared<Cvode>(s, options), s.dof, layout);
 }
 
 } // namespace phynjo::runtime

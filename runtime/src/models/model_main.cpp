@@ -2,6 +2,7 @@
 #include "phynjo/runtime/models/model_main.hpp"
 
 #include "phynjo/runtime/integrators/cvode.hpp"
+#include "phynjo/runtime/integrators/ida.hpp"
 #include "phynjo/runtime/integrators/dormand_prince.hpp"
 #include "phynjo/runtime/integrators/lagrangian_midpoint.hpp"
 #include "phynjo/runtime/integrators/lagrangian_rattle.hpp"
@@ -14,6 +15,7 @@
 #include <exception>
 #include <optional>
 #include <string>
+#include <type_traits>
 
 namespace phynjo::runtime {
 
@@ -42,7 +44,7 @@ void help(const char* prog, const ModelCommandLine& model, const LagrangianSyste
     std::string params, coords;
     for (const auto& [name, set] : model.parameters) params += (params.empty() ? "" : ", ") + std::string(name);
     for (const auto& n : sys.coordinate_names) coords += (coords.empty() ? "" : ", ") + n;
-    std::printf("usage: %s [--t-end T] [--dt DT] [--integrator rk4|dopri|midpoint|rattle|cvode] [--every K]\n"
+    std::printf("usage: %s [--t-end T] [--dt DT] [--integrator rk4|dopri|midpoint|rattle|cvode|ida] [--every K]\n"
                 "          [--param NAME=VALUE]... [--init NAME=VALUE[,NAME'=VALUE]...]... [--output FILE]\n"
                 "          [--energy-tolerance TOL [--fail-on-drift]] [--project-initial]\n"
                 "          [--projection-tolerance TOL] [--rtol R] [--atol A]\n"
@@ -53,11 +55,13 @@ void help(const char* prog, const ModelCommandLine& model, const LagrangianSyste
                 "  --integrator NAME      rk4 (default), dopri (Dormand-Prince 5(4), adaptive between the\n"
                 "                         rows), midpoint (symplectic without constraints, symmetric with\n"
                 "                         them: bounded energy error), rattle (symplectic with holonomic\n"
-                "                         constraints too), or cvode (SUNDIALS CVODE: variable-order BDF\n"
-                "                         with the exact Jacobian, for stiff models; its own steps between\n"
-                "                         the rows; prints its step counts on stderr)\n"
-                "  --rtol R, --atol A     cvode and dopri: relative and absolute tolerances (defaults: cvode\n"
-                "                         1e-8 and 1e-10, dopri 1e-9 and 1e-12)\n"
+                "                         constraints too), cvode (SUNDIALS CVODE: variable-order BDF\n"
+                "                         with the exact Jacobian, for stiff models), or ida (SUNDIALS IDA:\n"
+                "                         BDF on the equations with their constraints, stabilized index 2,\n"
+                "                         constraints held at every step); cvode and ida take their own\n"
+                "                         steps between the rows and print their step counts on stderr\n"
+                "  --rtol R, --atol A     cvode, ida and dopri: relative and absolute tolerances (defaults:\n"
+                "                         cvode and ida 1e-8 and 1e-10, dopri 1e-9 and 1e-12)\n"
                 "  --every K              write every K-th step (default: about 5000 rows); the first and\n"
                 "                         the last row are always written; t is exactly k*DT\n"
                 "  --param NAME=VALUE     set a parameter (repeatable); parameters: %s\n"
@@ -161,10 +165,10 @@ int model_main(int argc, char** argv, const ModelCommandLine& model) {
         if (!(dt > 0)) throw UsageError{"--dt must be positive"};
         if (!(t_end >= 0)) throw UsageError{"--t-end must not be negative"};
         if (integrator != "rk4" && integrator != "dopri" && integrator != "midpoint" && integrator != "rattle" &&
-            integrator != "cvode")
-            throw UsageError{"--integrator must be rk4, dopri, midpoint, rattle or cvode, not '" + integrator + "'"};
-        if ((rtol || atol) && integrator != "cvode" && integrator != "dopri")
-            throw UsageError{"--rtol and --atol go with --integrator cvode or dopri"};
+            integrator != "cvode" && integrator != "ida")
+            throw UsageError{"--integrator must be rk4, dopri, midpoint, rattle, cvode or ida, not '" + integrator + "'"};
+        if ((rtol || atol) && integrator != "cvode" && integrator != "ida" && integrator != "dopri")
+            throw UsageError{"--rtol and --atol go with --integrator cvode, ida or dopri"};
         if (fail_on_drift && !energy_tolerance) throw UsageError{"--fail-on-drift needs --energy-tolerance"};
     } catch (const UsageError& e) {
         std::fprintf(stderr, "%s: %s\n", argv[0], e.message.c_str());
@@ -257,16 +261,23 @@ int model_main(int argc, char** argv, const ModelCommandLine& model) {
             w.time = target;
             if (k % every == 0 || k == total) row();
         };
+        // a SUNDIALS solver: its own steps between the rows, its counters on stderr
+        auto run_sundials = [&](auto solver_tag, const char* name) {
+            using Solver = typename decltype(solver_tag)::type;
+            typename Solver::Options o;
+            o.projection = projection;
+            if (rtol) o.rtol = *rtol;
+            if (atol) o.atol = *atol;
+            Solver solver(sys, o);
+            for (long k = 1; k <= total; ++k) advance([&](double target, double) { solver.advance(w, target); }, k, target_of(k));
+            const auto st = solver.stats();
+            std::fprintf(stderr, "%s: %ld steps, %ld Jacobians, %ld Newton iterations, %ld Newton failures, %ld error-test failures\n",
+                         name, st.steps, st.jacobian_evaluations, st.newton_iterations, st.newton_failures, st.error_test_failures);
+        };
         if (integrator == "cvode") {
-            Cvode::Options copts;
-            copts.projection = projection;
-            if (rtol) copts.rtol = *rtol;
-            if (atol) copts.atol = *atol;
-            Cvode cv(sys, copts);
-            for (long k = 1; k <= total; ++k) advance([&](double target, double) { cv.advance(w, target); }, k, target_of(k));
-            const auto st = cv.stats();
-            std::fprintf(stderr, "cvode: %ld steps, %ld right-hand sides, %ld Jacobians, %ld Newton iterations, %ld error-test failures\n",
-                         st.steps, st.rhs_evaluations, st.jacobian_evaluations, st.newton_iterations, st.error_test_failures);
+            run_sundials(std::type_identity<Cvode>{}, "cvode");
+        } else if (integrator == "ida") {
+            run_sundials(std::type_identity<Ida>{}, "ida");
         } else if (integrator == "dopri") {
             DormandPrince45::Options dopts;
             dopts.projection = projection;

@@ -4,6 +4,7 @@
 /// solve of M q'' = f, worlds of generalized coordinates, and the integrators for them.
 #include "phynjo/runtime/integrators/cvode.hpp"
 #include "phynjo/runtime/integrators/dormand_prince.hpp"
+#include "phynjo/runtime/integrators/ida.hpp"
 #include "phynjo/runtime/integrators/lagrangian_midpoint.hpp"
 #include "phynjo/runtime/integrators/lagrangian_rattle.hpp"
 #include "phynjo/runtime/integrators/lagrangian_rk4.hpp"

@@ -1,0 +1,72 @@
+#pragma once
+// What the SUNDIALS integrators (cvode.cpp, ida.cpp) share: a flag's name, the check that a
+// world is where the solver left it (continue its history) or was changed (restart), and the
+// setup check. Internal to the runtime.
+#include "phynjo/runtime/models/lagrangian_system.hpp"
+
+#include <cstdlib>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace phynjo::runtime::sundials {
+
+/// A solver's name of a return flag (SUNDIALS' XGetReturnFlagName allocates it: freed here).
+inline std::string flag_name(char* (*name_of)(long), long flag) {
+    char* p = name_of(flag);
+    std::string name = p ? p : "unknown flag";
+    std::free(p);
+    return name;
+}
+
+/// Throws std::runtime_error for a failed setup call (a negative flag).
+inline void check_setup(int flag, const char* solver, const char* what, char* (*name_of)(long)) {
+    if (flag < 0)
+        throw std::runtime_error(std::string(solver) + " setup failed in " + what + ": " + flag_name(name_of, flag));
+}
+
+/// Where a solver left a world: its time and (q, q'), to tell a continuation from a restart.
+struct LastState {
+    bool valid = false;
+    double time = 0;
+    std::vector<double> y; ///< (q, q')
+
+    /// True when `w` is exactly where the solver left it (the history may continue).
+    [[nodiscard]] bool matches(const World& w, std::size_t n) const {
+        bool same = valid && w.time == time;
+        for (std::size_t i = 0; i < n && same; ++i)
+            same = w.at(kGQ, static_cast<Index>(i)) == y[i] && w.at(kGV, static_cast<Index>(i)) == y[n + i];
+        return same;
+    }
+    void remember(const World& w, std::size_t n) {
+        valid = true;
+        time = w.time;
+        y.resize(2 * n);
+        for (std::size_t i = 0; i < n; ++i) {
+            y[i] = w.at(kGQ, static_cast<Index>(i));
+            y[n + i] = w.at(kGV, static_cast<Index>(i));
+        }
+    }
+};
+
+} // namespace phynjo::runtime::sundials
+
+namespace phynjo::runtime::sundials {
+
+/// A SUNDIALS solver as a workflow: one rule (`name`, writing q and q') advancing the world
+/// by dt per step with one shared solver (lagrangian_cvode, lagrangian_ida).
+template <class Solver>
+NumericWorkflow solver_workflow(const char* name, std::shared_ptr<Solver> solver, std::size_t dof,
+                                const std::shared_ptr<const Layout>& layout) {
+    const ComponentSet all = ComponentSet::range(0, static_cast<Index>(dof));
+    NumericRule r{name, Domain(kGQ, all) | Domain(kGV, all), {}, nullptr, layout};
+    r.step = [solver](double dt, World& w) {
+        const double t0 = w.time;
+        solver->advance(w, t0 + dt);
+        w.time = t0; // the interpreter advances the time
+    };
+    return NumericWorkflow::run(r);
+}
+
+} // namespace phynjo::runtime::sundials
