@@ -1,5 +1,5 @@
 include_guard(GLOBAL)
-# phynjo_add_model(TARGET name MODEL file.lag [MAIN])
+# phynjo_add_model(TARGET name MODEL file.lag [MAIN] [LAGC_OPTIONS option...])
 #
 # Runs phynjo-lagc at build time (again whenever the .lag file or the compiler changes) and
 # makes a target whose include path holds the generated header, so that `#include
@@ -7,7 +7,7 @@ include_guard(GLOBAL)
 # model (see `name --help`). The generated files are named after TARGET. Works in the phynjo
 # build tree (add_subdirectory) and after find_package(phynjo CONFIG).
 function(phynjo_add_model)
-  cmake_parse_arguments(PHYNJO "MAIN" "TARGET;MODEL" "" ${ARGN})
+  cmake_parse_arguments(PHYNJO "MAIN" "TARGET;MODEL" "LAGC_OPTIONS" ${ARGN})
   if(NOT PHYNJO_TARGET OR NOT PHYNJO_MODEL)
     message(FATAL_ERROR "phynjo_add_model: TARGET and MODEL are required")
   endif()
@@ -18,21 +18,24 @@ function(phynjo_add_model)
   set(dir "${CMAKE_CURRENT_BINARY_DIR}/phynjo_generated/${PHYNJO_TARGET}")
   set(src "${dir}/${PHYNJO_TARGET}.cpp")
   set(hdr "${dir}/${PHYNJO_TARGET}.hpp")
-  set(flags)
+  # a big model's largest functions go to three more files that compile in parallel; a small
+  # model's hold a comment only (phynjo-lagc --parts)
+  set(parts "${dir}/${PHYNJO_TARGET}.part2.cpp" "${dir}/${PHYNJO_TARGET}.part3.cpp" "${dir}/${PHYNJO_TARGET}.part4.cpp")
+  set(flags --parts 4 ${PHYNJO_LAGC_OPTIONS})
   if(PHYNJO_MAIN)
-    set(flags --main)
+    list(APPEND flags --main)
   endif()
   file(MAKE_DIRECTORY "${dir}")
   add_custom_command(
-    OUTPUT "${src}" "${hdr}"
+    OUTPUT "${src}" "${hdr}" ${parts}
     COMMAND $<TARGET_FILE:phynjo::phynjo-lagc> "${model}" -o "${src}" ${flags}
     DEPENDS "${model}" $<TARGET_FILE:phynjo::phynjo-lagc>
     COMMENT "phynjo-lagc ${PHYNJO_MODEL} -> ${PHYNJO_TARGET}.cpp"
     VERBATIM)
   if(PHYNJO_MAIN)
-    add_executable(${PHYNJO_TARGET} "${src}" "${hdr}")
+    add_executable(${PHYNJO_TARGET} "${src}" ${parts} "${hdr}")
   else()
-    add_library(${PHYNJO_TARGET} STATIC "${src}" "${hdr}")
+    add_library(${PHYNJO_TARGET} STATIC "${src}" ${parts} "${hdr}")
   endif()
   target_include_directories(${PHYNJO_TARGET} PUBLIC "${dir}")
   target_link_libraries(${PHYNJO_TARGET} PUBLIC phynjo::runtime)

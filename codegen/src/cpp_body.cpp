@@ -3,6 +3,8 @@
 #include "emit_detail.hpp"
 
 #include <map>
+#include <optional>
+#include <unordered_map>
 #include <unordered_set>
 
 namespace phynjo::codegen::detail {
@@ -30,26 +32,124 @@ std::string loads(const Names& names, const cas::CseResult& r, bool& uses_t, boo
     return s;
 }
 
+constexpr std::size_t kChunkStatements = 250;
+
+/// Statements wrapped in pieces of kChunkStatements, each a lambda called at once that the
+/// compiler may not inline: each piece is optimized (register allocation, SLP
+/// vectorization) on its own, in time linear in the number of pieces.
+class Pieces {
+public:
+    void add(std::string& out, const std::string& statement) {
+        if (open_ == kChunkStatements) close(out);
+        if (open_ == 0) out += "    [&]() __attribute__((noinline)) {\n";
+        out += "    " + statement;
+        ++open_;
+    }
+    void close(std::string& out) {
+        if (open_ > 0) out += "    }();\n";
+        open_ = 0;
+    }
+
+private:
+    std::size_t open_ = 0;
+};
+
+/// When `entries` are the consecutive elements ARR[a], ARR[a+1], … of one array: "&ARR[a]".
+std::optional<std::string> consecutive(const std::vector<std::string>& entries) {
+    std::string array;
+    std::size_t first = 0;
+    for (std::size_t k = 0; k < entries.size(); ++k) {
+        const std::string& e = entries[k];
+        const auto open = e.find('[');
+        if (open == std::string::npos || e.back() != ']') return std::nullopt;
+        const std::string digits = e.substr(open + 1, e.size() - open - 2);
+        if (digits.empty() || digits.find_first_not_of("0123456789") != std::string::npos) return std::nullopt;
+        const std::size_t index = std::stoul(digits);
+        if (k == 0) {
+            array = e.substr(0, open);
+            first = index;
+        } else if (e.compare(0, open, array) != 0 || open != array.size() || index != first + k)
+            return std::nullopt;
+    }
+    if (entries.empty()) return std::nullopt;
+    return "&" + array + "[" + std::to_string(first) + "]";
+}
+
+/// Statements of a body in one of two forms. Small bodies: `const double x7 = …;`. Large
+/// ones (Names::piece_threshold statements and more): the temporaries and the outputs in one local
+/// array, `xv[i] = …;`, computed in pieces of kChunkStatements, each piece a lambda the
+/// compiler may not inline. GCC's register allocation grows much faster than linearly with
+/// the size of a straight-line function (nlink_cart(40)'s rhs_jacobian: 51 s and 1.5 GB at
+/// -O3 as one piece, 16 s and 0.44 GB in pieces); in pieces each is allocated on its own,
+/// and the values pass between them through memory, at a few per cent of run time.
+class Statements {
+public:
+    Statements(const Names& names, const cas::CseResult& r) : names_(names) {
+        chunked_ = r.assignments.size() + r.outputs.size() >= names.piece_threshold;
+        if (chunked_) {
+            array_ = names.temp_prefix() + "v"; // no temporary is PREFIX followed by a letter
+            for (const auto& [t, v] : r.assignments) slot_.emplace(t, slot_.size());
+        }
+        cpp_.variable_name = [this](Expr v) {
+            if (auto it = slot_.find(v); it != slot_.end()) return array_ + "[" + std::to_string(it->second) + "]";
+            return names_.local(v);
+        };
+        outputs_ = r.outputs.size();
+        slots_ = slot_.size() + outputs_;
+    }
+    bool chunked() const noexcept { return chunked_; }
+    /// `double xv[N];` for a chunked body (declared before any of its statements).
+    std::string declaration() const { return chunked_ ? "    double " + array_ + "[" + std::to_string(slots_) + "];\n" : ""; }
+    /// The statement computing temporary `t` as `v`.
+    void assign(std::string& out, Expr t, Expr v) {
+        if (!chunked_) {
+            out += "    const double " + names_.local(t) + " = " + cas::to_cpp(v, cpp_) + ";\n";
+            return;
+        }
+        add(out, "    " + array_ + "[" + std::to_string(slot_.at(t)) + "] = " + cas::to_cpp(v, cpp_) + ";\n");
+    }
+    /// The C++ expression of output `j` (`e`); in a chunked body the output is stored in the
+    /// array by a statement appended to `out`, and the expression is its element.
+    std::string output(std::string& out, std::size_t j, Expr e) {
+        std::string c = cas::to_cpp(e, cpp_);
+        if (!chunked_) return c;
+        const std::string element = array_ + "[" + std::to_string(slot_.size() + j) + "]";
+        add(out, "    " + element + " = " + c + ";\n");
+        return element;
+    }
+    /// Ends the open piece (before code that is not part of the body: the late half of a split body).
+    void close(std::string& out) { pieces_.close(out); }
+
+private:
+    void add(std::string& out, const std::string& statement) { pieces_.add(out, statement); }
+    Pieces pieces_;
+    const Names& names_;
+    cas::CppOptions cpp_;
+    bool chunked_ = false;
+    std::string array_;
+    std::unordered_map<Expr, std::size_t> slot_;
+    std::size_t outputs_ = 0, slots_ = 0;
+};
+
 } // namespace
 
 std::string body(const Names& names, const std::vector<Expr>& outputs, std::vector<std::string>& results,
                  bool& uses_t, bool& uses_params) {
     const cas::CseResult r = cas::cse(outputs, {.prefix = names.temp_prefix(), .hoist_power_bases = true});
-    cas::CppOptions cpp;
-    cpp.variable_name = [&](Expr v) { return names.local(v); };
-    std::string s = loads(names, r, uses_t, uses_params);
-    for (const auto& [t, v] : r.assignments) s += "    const double " + names.local(t) + " = " + cas::to_cpp(v, cpp) + ";\n";
+    Statements st(names, r);
+    std::string s = loads(names, r, uses_t, uses_params) + st.declaration();
+    for (const auto& [t, v] : r.assignments) st.assign(s, t, v);
     results.clear();
-    for (Expr o : r.outputs) results.push_back(cas::to_cpp(o, cpp));
+    for (std::size_t j = 0; j < r.outputs.size(); ++j) results.push_back(st.output(s, j, r.outputs[j]));
+    st.close(s);
     return s;
 }
 
 void body_split(const Names& names, const std::vector<Expr>& outputs, const std::vector<Expr>& late_variables,
                 std::vector<std::string>& results, std::string& early, std::string& late, bool& uses_t, bool& uses_params) {
     const cas::CseResult r = cas::cse(outputs, {.prefix = names.temp_prefix(), .hoist_power_bases = true});
-    cas::CppOptions cpp;
-    cpp.variable_name = [&](Expr v) { return names.local(v); };
-    early = loads(names, r, uses_t, uses_params);
+    Statements st(names, r);
+    early = loads(names, r, uses_t, uses_params) + st.declaration();
     late.clear();
     std::unordered_set<Expr> is_late(late_variables.begin(), late_variables.end());
     for (const auto& [t, v] : r.assignments) {
@@ -60,10 +160,54 @@ void body_split(const Names& names, const std::vector<Expr>& outputs, const std:
                 break;
             }
         if (depends) is_late.insert(t);
-        (depends ? late : early) += "    const double " + names.local(t) + " = " + cas::to_cpp(v, cpp) + ";\n";
+        if (!depends) st.assign(early, t, v);
     }
-    results.clear();
-    for (Expr o : r.outputs) results.push_back(cas::to_cpp(o, cpp));
+    // the outputs that need no late variable are computed early (M, f, G, γ before the solve)
+    auto needs_late = [&](Expr o) {
+        for (Expr x : cas::free_variables(o))
+            if (is_late.count(x)) return true;
+        return false;
+    };
+    results.assign(r.outputs.size(), {});
+    for (std::size_t j = 0; j < r.outputs.size(); ++j)
+        if (!needs_late(r.outputs[j])) results[j] = st.output(early, j, r.outputs[j]);
+    st.close(early);
+    for (const auto& [t, v] : r.assignments)
+        if (is_late.count(t)) st.assign(late, t, v);
+    for (std::size_t j = 0; j < r.outputs.size(); ++j)
+        if (needs_late(r.outputs[j])) results[j] = st.output(late, j, r.outputs[j]);
+    st.close(late);
+}
+
+std::string array_of(const std::string& name, const std::vector<std::string>& entries) {
+    if (auto first = consecutive(entries)) return "    const double* " + name + " = " + *first + ";\n";
+    std::string s;
+    if (entries.size() < kChunkStatements) {
+        s = "    const double " + name + "[" + std::to_string(entries.size()) + "] = {";
+        for (std::size_t k = 0; k < entries.size(); ++k) s += (k ? ", " : "") + entries[k];
+        return s + "};\n";
+    }
+    s = "    double " + name + "[" + std::to_string(entries.size()) + "];\n";
+    Pieces pieces;
+    for (std::size_t k = 0; k < entries.size(); ++k)
+        pieces.add(s, "    " + name + "[" + std::to_string(k) + "] = " + entries[k] + ";\n");
+    pieces.close(s);
+    return s;
+}
+
+std::string store_all(const std::string& target, const std::vector<std::string>& entries) {
+    if (auto first = consecutive(entries))
+        return "    std::copy_n(" + *first + ", " + std::to_string(entries.size()) + ", " + target + ".data());\n";
+    std::string s;
+    if (entries.size() < kChunkStatements) {
+        for (std::size_t k = 0; k < entries.size(); ++k) s += "    " + target + "[" + std::to_string(k) + "] = " + entries[k] + ";\n";
+        return s;
+    }
+    Pieces pieces;
+    for (std::size_t k = 0; k < entries.size(); ++k)
+        pieces.add(s, "    " + target + "[" + std::to_string(k) + "] = " + entries[k] + ";\n");
+    pieces.close(s);
+    return s;
 }
 
 std::string unused(bool uses_t, bool uses_params, bool has_t) {

@@ -65,6 +65,8 @@ public:
     /// Names `v` in generated code as the C++ expression `local` (read where it is used, no
     /// load): the symbols of the Jacobians (acc[i], lambda[k], …).
     void add_variable(Expr v, std::string local) { local_.emplace(v, std::move(local)); }
+    /// Bodies of this many statements or more are computed in pieces (EmitOptions).
+    std::size_t piece_threshold = kPieceThreshold;
 
 private:
     std::unordered_map<Expr, std::string> local_, load_;
@@ -81,6 +83,16 @@ std::string body(const Names& names, const std::vector<Expr>& outputs, std::vect
 /// (the temporaries in their order), `late` the rest; late outputs may use early temporaries.
 void body_split(const Names& names, const std::vector<Expr>& outputs, const std::vector<Expr>& late_variables,
                 std::vector<std::string>& results, std::string& early, std::string& late, bool& uses_t, bool& uses_params);
+
+/// `name` as an array of `entries` (C++ expressions) for code that reads it through a
+/// pointer: `const double* name = &xv[a];` when the entries are consecutive elements of one
+/// array (the outputs of a chunked body), `const double name[n] = {…};` when few, else
+/// `double name[n];` filled in pieces (one huge initializer is as slow to optimize as one
+/// huge function).
+std::string array_of(const std::string& name, const std::vector<std::string>& entries);
+/// `target[k] = entries[k];` for each k (target a std::span): one std::copy_n when the
+/// entries are consecutive elements of one array, in pieces when there are many.
+std::string store_all(const std::string& target, const std::vector<std::string>& entries);
 
 /// Index of M_ij (either triangle) among the upper triangle of an n×n matrix listed row by row.
 inline std::size_t upper_index(std::size_t i, std::size_t j, std::size_t n) {

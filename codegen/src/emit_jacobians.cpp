@@ -49,9 +49,9 @@ void emit_one(std::ostringstream& s, const Model& m, const EquationsOfMotion& eo
     const std::string where = m.name + "::" + fn;
     s << unused(true, uses_p) << early; // t is in the error messages
     auto array = [&](const char* name, std::size_t len, auto&& entry) {
-        s << "    const double " << name << "[" << len << "] = {";
-        for (std::size_t k = 0; k < len; ++k) s << (k ? ", " : "") << entry(k);
-        s << "};\n";
+        std::vector<std::string> entries;
+        for (std::size_t k = 0; k < len; ++k) entries.push_back(entry(k));
+        s << array_of(name, entries);
     };
     array("M", n * n, [&](std::size_t k) {
         const std::size_t i = k / n, j = k % n;
@@ -113,8 +113,11 @@ std::string emit_jacobians(const Model& m, const EquationsOfMotion& eom, Names n
         const char* outs[] = {"p", "F", "dp", "dF"};
         const std::size_t lens[] = {n, n, 2 * n * n, 2 * n * n};
         std::size_t k = 0;
-        for (int o = 0; o < 4; ++o)
-            for (std::size_t i = 0; i < lens[o]; ++i) s << "    " << outs[o] << "[" << i << "] = " << res[k++] << ";\n";
+        for (int o = 0; o < 4; ++o) {
+            s << store_all(outs[o], std::vector<std::string>(res.begin() + static_cast<std::ptrdiff_t>(k),
+                                                             res.begin() + static_cast<std::ptrdiff_t>(k + lens[o])));
+            k += lens[o];
+        }
         s << "}\n\n";
     }
     return s.str();
