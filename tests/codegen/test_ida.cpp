@@ -16,7 +16,9 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <random>
 
 using namespace phynjo::runtime;
 
@@ -42,6 +44,78 @@ World rk4_reference(const LagrangianSystem& s, double t_end, double dt) {
 double energy(const LagrangianSystem& s, const World& w) { return s.energy(w.time, w.field(kGQ), w.field(kGV)); }
 
 } // namespace
+
+// Bugs caught: a wrong entry of the Jacobian handed to IDA (a sign of ∂F/∂q, the constraints'
+// curvature ∂(Gᵀλ)/∂q or ∂ψ/∂q left out, a block misplaced, row- for column-major): against
+// central differences of the residual itself at random (Y, Ẏ) with λ, μ ≠ 0.
+TEST_CASE("IDA's equations: the Jacobian = central differences of the residual", "[codegen][ida]") {
+    std::mt19937_64 rng(14);
+    std::uniform_real_distribution<double> d(-1.0, 1.0);
+    for (const LagrangianSystem& s : {double_pendulum::system({}), relativistic::system({}), driven::system({}),
+                                      cartesian_pendulum::system({}), four_bar::system({}), rolling_disk::system({}),
+                                      bead_on_rod::system({}), slider_crank::system({})}) {
+        INFO(s.coordinate_names[0] << " (" << s.n_constraints << " constraints)");
+        GglEquations eq(s);
+        const std::size_t N = eq.size();
+        REQUIRE(N == 3 * s.dof + s.n_constraints +
+                         static_cast<std::size_t>(std::count(s.constraint_holonomic.begin(), s.constraint_holonomic.end(), 1)));
+        std::vector<double> Y(N), Yd(N), J(N * N), Rp(N), Rm(N), R(N);
+        for (int trial = 0; trial < 3; ++trial) {
+            for (auto& y : Y) y = 0.5 * d(rng);
+            for (auto& y : Yd) y = d(rng);
+            const double t = 0.3 + 0.1 * trial, cj = 7.5;
+            eq.jacobian(t, cj, Y, J);
+            double worst = 0, scale = 0;
+            for (std::size_t j = 0; j < N; ++j) {
+                // ∂R/∂Y_j + cj ∂R/∂Ẏ_j by central differences
+                std::vector<double> num(N, 0.0);
+                for (int which = 0; which < 2; ++which) {
+                    std::vector<double>& x = which == 0 ? Y : Yd;
+                    const double x0 = x[j], h = 1e-5 * std::max(1.0, std::fabs(x0));
+                    x[j] = x0 + h;
+                    eq.residual(t, Y, Yd, Rp);
+                    x[j] = x0 - h;
+                    eq.residual(t, Y, Yd, Rm);
+                    x[j] = x0;
+                    for (std::size_t i = 0; i < N; ++i) num[i] += (which == 0 ? 1.0 : cj) * (Rp[i] - Rm[i]) / (2 * h);
+                }
+                for (std::size_t i = 0; i < N; ++i) {
+                    worst = std::max(worst, std::fabs(J[j * N + i] - num[i])); // column-major
+                    scale = std::max(scale, std::fabs(num[i]));
+                }
+            }
+            CHECK(worst <= 1e-6 * std::max(1.0, scale));
+        }
+    }
+}
+
+// Bugs caught: inconsistent initial values (ṗ without the constraint forces Gᵀλ, p not ∂L/∂q',
+// λ stale, a state off the constraints not projected): IDA then starts from a point that is
+// not a solution and its first steps absorb the jump.
+TEST_CASE("IDA's equations: consistent initial values solve them (off-constraint states projected first)", "[codegen][ida]") {
+    for (const LagrangianSystem& s : {double_pendulum::system({}), relativistic::system({}), driven::system({}),
+                                      cartesian_pendulum::system({}), four_bar::system({}), rolling_disk::system({}),
+                                      bead_on_rod::system({}), slider_crank::system({})}) {
+        INFO(s.coordinate_names[0] << " (" << s.n_constraints << " constraints)");
+        GglEquations eq(s);
+        World w = make_lagrangian_world(s);
+        std::vector<double> q(w.field(kGQ).begin(), w.field(kGQ).end()), v(w.field(kGV).begin(), w.field(kGV).end());
+        for (std::size_t i = 0; i < s.dof; ++i) { // a little off the constraints, at once
+            q[i] += 1e-4 * static_cast<double>(i + 1);
+            v[i] += 0.3 - 0.1 * static_cast<double>(i);
+        }
+        std::vector<double> Y(eq.size()), Yd(eq.size()), R(eq.size());
+        const double t = 0.25;
+        eq.consistent_values(t, q, v, {}, Y, Yd);
+        eq.residual(t, Y, Yd, R);
+        double worst = 0, scale = 1;
+        for (std::size_t i = 0; i < eq.size(); ++i) {
+            worst = std::max(worst, std::fabs(R[i]));
+            scale = std::max({scale, std::fabs(Y[i]), std::fabs(Yd[i])});
+        }
+        CHECK(worst <= 1e-12 * scale);
+    }
+}
 
 // Bugs caught: a wrong residual (a sign of Gᵀλ, q̇ rows against q' swapped), the momentum rows
 // (p − ∂L/∂q' with the wrong p), a wrong exact Jacobian (Newton fails or crawls), inconsistent

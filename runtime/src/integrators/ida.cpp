@@ -9,6 +9,7 @@
 #include <sunlinsol/sunlinsol_dense.h>
 #include <sunmatrix/sunmatrix_dense.h>
 
+#include <algorithm>
 #include <cmath>
 #include <exception>
 #include <limits>
@@ -24,15 +25,133 @@ std::string flag_name(long flag) { return sundials::flag_name(IDAGetReturnFlagNa
 
 } // namespace
 
+GglEquations::GglEquations(LagrangianSystem system) : sys_(std::move(system)) {
+    n_ = sys_.dof;
+    m_ = sys_.n_constraints;
+    for (std::size_t c = 0; c < m_; ++c)
+        if (sys_.constraint_holonomic[c]) holonomic_.push_back(c);
+    mh_ = holonomic_.size();
+    N_ = 3 * n_ + m_ + mh_;
+    off_ = {.q = 0, .v = n_, .p = 2 * n_, .lambda = 3 * n_, .mu = 3 * n_ + m_};
+    for (auto* s : {&p_, &F_, &qt_, &q_, &v_, &acc_}) s->assign(n_, 0.0);
+    for (auto* s : {&dp_, &dF_}) s->assign(2 * n_ * n_, 0.0);
+    for (auto* s : {&G_, &Gp_, &Gm_}) s->assign(m_ * n_, 0.0);
+    for (auto* s : {&psi_, &phi_, &psip_, &psim_, &lambda_}) s->assign(m_, 0.0);
+}
+
+void GglEquations::residual(double t, std::span<const double> Y, std::span<const double> Yd, std::span<double> R) {
+    const std::size_t n = n_, m = m_;
+    const auto [oQ, oV, oP, oL, oM] = off_;
+    const std::span<const double> q = Y.subspan(oQ, n), v = Y.subspan(oV, n);
+    const double *p = Y.data() + oP, *lam = Y.data() + oL, *mu = Y.data() + oM;
+    sys_.momenta(t, q, v, p_);
+    sys_.generalized_forces(t, q, v, F_);
+    if (m > 0) {
+        sys_.constraint_matrix(t, q, G_);
+        sys_.constraint_velocity_residuals(t, q, v, psi_);
+        sys_.constraint_residuals(t, q, v, phi_);
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+        double gmu = 0, glam = 0;
+        for (std::size_t k = 0; k < mh_; ++k) gmu += G_[holonomic_[k] * n + i] * mu[k];
+        for (std::size_t c = 0; c < m; ++c) glam += G_[c * n + i] * lam[c];
+        R[oQ + i] = Yd[oQ + i] - v[i] - gmu;
+        R[oV + i] = p[i] - p_[i];
+        R[oP + i] = Yd[oP + i] - F_[i] - glam;
+    }
+    for (std::size_t c = 0; c < m; ++c) R[oL + c] = psi_[c];
+    for (std::size_t k = 0; k < mh_; ++k) R[oM + k] = phi_[holonomic_[k]];
+}
+
+void GglEquations::jacobian(double t, double cj, std::span<const double> Y, std::span<double> J) {
+    const std::size_t n = n_, m = m_, N = N_;
+    const auto [oQ, oV, oP, oL, oM] = off_;
+    const std::span<const double> q = Y.subspan(oQ, n), v = Y.subspan(oV, n);
+    const double *lam = Y.data() + oL, *mu = Y.data() + oM;
+    // rows: q̇ rows at oQ, p rows at oV, ṗ rows at oP, ψ rows at oL, φ_h rows at oM
+    const std::size_t rQ = oQ, rV = oV, rP = oP, rPsi = oL, rPhi = oM;
+    auto at = [&](std::size_t i, std::size_t j) -> double& { return J[j * N + i]; };
+    std::fill(J.begin(), J.end(), 0.0);
+    sys_.canonical_jacobian(t, q, v, p_, F_, dp_, dF_);
+    if (m > 0) sys_.constraint_matrix(t, q, G_);
+    for (std::size_t i = 0; i < n; ++i) {
+        at(rQ + i, oQ + i) = cj;
+        at(rQ + i, oV + i) = -1;
+        for (std::size_t k = 0; k < mh_; ++k) at(rQ + i, oM + k) = -G_[holonomic_[k] * n + i];
+        at(rV + i, oP + i) = 1;
+        at(rP + i, oP + i) = cj;
+        for (std::size_t j = 0; j < n; ++j) {
+            at(rV + i, oQ + j) = -dp_[i * 2 * n + j];
+            at(rV + i, oV + j) = -dp_[i * 2 * n + n + j];
+            at(rP + i, oQ + j) = -dF_[i * 2 * n + j];
+            at(rP + i, oV + j) = -dF_[i * 2 * n + n + j];
+        }
+        for (std::size_t c = 0; c < m; ++c) at(rP + i, oL + c) = -G_[c * n + i];
+    }
+    for (std::size_t c = 0; c < m; ++c)
+        for (std::size_t j = 0; j < n; ++j) at(rPsi + c, oV + j) = G_[c * n + j]; // ψ is linear in q'
+    for (std::size_t k = 0; k < mh_; ++k)
+        for (std::size_t j = 0; j < n; ++j) at(rPhi + k, oQ + j) = G_[holonomic_[k] * n + j];
+    if (m == 0) return;
+    // the curvature of the constraints: ∂(G_hᵀμ)/∂q, ∂(Gᵀλ)/∂q, ∂ψ/∂q by central differences
+    const double eps = std::cbrt(std::numeric_limits<double>::epsilon());
+    for (std::size_t j = 0; j < n; ++j) {
+        std::copy(q.begin(), q.end(), qt_.begin());
+        const double h = eps * std::max(1.0, std::fabs(q[j]));
+        qt_[j] = q[j] + h;
+        sys_.constraint_matrix(t, qt_, Gp_);
+        sys_.constraint_velocity_residuals(t, qt_, v, psip_);
+        qt_[j] = q[j] - h;
+        sys_.constraint_matrix(t, qt_, Gm_);
+        sys_.constraint_velocity_residuals(t, qt_, v, psim_);
+        const double inv = 1 / (2 * h);
+        for (std::size_t i = 0; i < n; ++i) {
+            double gmu = 0, glam = 0;
+            for (std::size_t k = 0; k < mh_; ++k) gmu += (Gp_[holonomic_[k] * n + i] - Gm_[holonomic_[k] * n + i]) * mu[k];
+            for (std::size_t c = 0; c < m; ++c) glam += (Gp_[c * n + i] - Gm_[c * n + i]) * lam[c];
+            at(rQ + i, oQ + j) -= gmu * inv;
+            at(rP + i, oQ + j) -= glam * inv;
+        }
+        for (std::size_t c = 0; c < m; ++c) at(rPsi + c, oQ + j) = (psip_[c] - psim_[c]) * inv;
+    }
+}
+
+void GglEquations::consistent_values(double t, std::span<const double> q, std::span<const double> qdot,
+                                     const ProjectionOptions& projection, std::span<double> Y, std::span<double> Yd) {
+    const std::size_t n = n_, m = m_;
+    const auto [oQ, oV, oP, oL, oM] = off_;
+    std::copy(q.begin(), q.end(), q_.begin());
+    std::copy(qdot.begin(), qdot.end(), v_.begin());
+    if (m > 0) {
+        project_onto_constraints(sys_, t, q_, v_, projection);
+        sys_.accelerations_and_multipliers(t, q_, v_, acc_, lambda_);
+        sys_.constraint_matrix(t, q_, G_);
+    } else {
+        sys_.accelerations(t, q_, v_, acc_);
+    }
+    sys_.momenta(t, q_, v_, p_);
+    sys_.generalized_forces(t, q_, v_, F_);
+    std::fill(Y.begin(), Y.end(), 0.0);
+    std::fill(Yd.begin(), Yd.end(), 0.0);
+    for (std::size_t i = 0; i < n; ++i) {
+        Y[oQ + i] = q_[i];
+        Y[oV + i] = v_[i];
+        Y[oP + i] = p_[i];
+        Yd[oQ + i] = v_[i];
+        Yd[oV + i] = acc_[i];
+        double glam = 0;
+        for (std::size_t c = 0; c < m; ++c) glam += G_[c * n + i] * lambda_[c];
+        Yd[oP + i] = F_[i] + glam;
+    }
+    for (std::size_t c = 0; c < m; ++c) Y[oL + c] = lambda_[c];
+    (void)oM;
+}
+
 struct Ida::Impl {
-    LagrangianSystem sys;
+    explicit Impl(LagrangianSystem s) : eq(std::move(s)) {}
+    GglEquations eq;
     Options opt;
-    std::size_t n = 0, m = 0, mh = 0, N = 0;
-    /// Offsets of the unknowns in Y = (q, q', p, λ, μ) …
-    std::size_t oQ = 0, oV = 0, oP = 0, oL = 0, oM = 0;
-    /// … and of the residual rows (q̇ rows, p rows, ṗ rows, ψ rows, φ_h rows).
-    std::size_t rQ = 0, rV = 0, rP = 0, rPsi = 0, rPhi = 0;
-    std::vector<std::size_t> holonomic; ///< the holonomic rows of G, in file order
+    std::size_t n = 0, m = 0, N = 0;
     SUNContext ctx = nullptr;
     N_Vector yy = nullptr, yp = nullptr, id = nullptr, atol = nullptr;
     SUNMatrix A = nullptr;
@@ -40,102 +159,28 @@ struct Ida::Impl {
     void* mem = nullptr;
     bool initialized = false;
     sundials::LastState last;
-    // scratch, sized once: no allocation in a step
-    std::vector<double> p, F, G, psi, phi, dp, dF, qt, Gp, Gm, psip, psim, q, v, acc, lambda;
+    std::vector<double> q, v;
     std::exception_ptr error; ///< thrown by the model inside a callback: rethrown after IDASolve returns
     std::string message;      ///< IDA's last error message
 
-    static std::span<const double> span(const double* x, std::size_t k) { return {x, k}; }
-
-    int residual(double t, const double* y, const double* yd, double* r) {
-        const double *q_ = y + oQ, *v_ = y + oV, *p_ = y + oP, *lam = y + oL, *mu = y + oM;
-        sys.momenta(t, span(q_, n), span(v_, n), p);
-        sys.generalized_forces(t, span(q_, n), span(v_, n), F);
-        if (m > 0) {
-            sys.constraint_matrix(t, span(q_, n), G);
-            sys.constraint_velocity_residuals(t, span(q_, n), span(v_, n), psi);
-            sys.constraint_residuals(t, span(q_, n), span(v_, n), phi);
-        }
-        for (std::size_t i = 0; i < n; ++i) {
-            double gmu = 0, glam = 0;
-            for (std::size_t k = 0; k < mh; ++k) gmu += G[holonomic[k] * n + i] * mu[k];
-            for (std::size_t c = 0; c < m; ++c) glam += G[c * n + i] * lam[c];
-            r[rQ + i] = yd[oQ + i] - v_[i] - gmu;
-            r[rV + i] = p_[i] - p[i];
-            r[rP + i] = yd[oP + i] - F[i] - glam;
-        }
-        for (std::size_t c = 0; c < m; ++c) r[rPsi + c] = psi[c];
-        for (std::size_t k = 0; k < mh; ++k) r[rPhi + k] = phi[holonomic[k]];
-        return 0;
-    }
-
-    /// ∂R/∂Y + c_j ∂R/∂Ẏ: ∂p and ∂F exact (canonical_jacobian), the constraints' curvature by
-    /// central differences of G and ψ in q.
-    void jacobian(double t, double cj, const double* y, SUNMatrix J) {
-        const double *q_ = y + oQ, *v_ = y + oV, *lam = y + oL, *mu = y + oM;
-        SUNMatZero(J);
-        auto at = [&](std::size_t i, std::size_t j) -> double& {
-            return SM_ELEMENT_D(J, static_cast<sunindextype>(i), static_cast<sunindextype>(j));
-        };
-        sys.canonical_jacobian(t, span(q_, n), span(v_, n), p, F, dp, dF);
-        if (m > 0) sys.constraint_matrix(t, span(q_, n), G);
-        for (std::size_t i = 0; i < n; ++i) {
-            at(rQ + i, oQ + i) = cj;
-            at(rQ + i, oV + i) = -1;
-            for (std::size_t k = 0; k < mh; ++k) at(rQ + i, oM + k) = -G[holonomic[k] * n + i];
-            at(rV + i, oP + i) = 1;
-            at(rP + i, oP + i) = cj;
-            for (std::size_t j = 0; j < n; ++j) {
-                at(rV + i, oQ + j) = -dp[i * 2 * n + j];
-                at(rV + i, oV + j) = -dp[i * 2 * n + n + j];
-                at(rP + i, oQ + j) = -dF[i * 2 * n + j];
-                at(rP + i, oV + j) = -dF[i * 2 * n + n + j];
-            }
-            for (std::size_t c = 0; c < m; ++c) at(rP + i, oL + c) = -G[c * n + i];
-        }
-        for (std::size_t c = 0; c < m; ++c)
-            for (std::size_t j = 0; j < n; ++j) at(rPsi + c, oV + j) = G[c * n + j]; // ψ is linear in q'
-        for (std::size_t k = 0; k < mh; ++k)
-            for (std::size_t j = 0; j < n; ++j) at(rPhi + k, oQ + j) = G[holonomic[k] * n + j];
-        if (m == 0) return;
-        const double eps = std::cbrt(std::numeric_limits<double>::epsilon());
-        for (std::size_t j = 0; j < n; ++j) {
-            for (std::size_t i = 0; i < n; ++i) qt[i] = q_[i];
-            const double h = eps * std::max(1.0, std::fabs(q_[j]));
-            qt[j] = q_[j] + h;
-            sys.constraint_matrix(t, qt, Gp);
-            sys.constraint_velocity_residuals(t, qt, span(v_, n), psip);
-            qt[j] = q_[j] - h;
-            sys.constraint_matrix(t, qt, Gm);
-            sys.constraint_velocity_residuals(t, qt, span(v_, n), psim);
-            const double inv = 1 / (2 * h);
-            for (std::size_t i = 0; i < n; ++i) {
-                double gmu = 0, glam = 0;
-                for (std::size_t k = 0; k < mh; ++k)
-                    gmu += (Gp[holonomic[k] * n + i] - Gm[holonomic[k] * n + i]) * mu[k];
-                for (std::size_t c = 0; c < m; ++c) glam += (Gp[c * n + i] - Gm[c * n + i]) * lam[c];
-                at(rQ + i, oQ + j) -= gmu * inv;
-                at(rP + i, oQ + j) -= glam * inv;
-            }
-            for (std::size_t c = 0; c < m; ++c) at(rPsi + c, oQ + j) = (psip[c] - psim[c]) * inv;
-        }
-    }
+    std::span<double> span_of(N_Vector x) const { return {N_VGetArrayPointer(x), N}; }
 
     static int residual_fn(sunrealtype t, N_Vector y, N_Vector yd, N_Vector r, void* data) {
         auto& k = *static_cast<Impl*>(data);
         try {
-            return k.residual(t, N_VGetArrayPointer(y), N_VGetArrayPointer(yd), N_VGetArrayPointer(r));
+            k.eq.residual(t, k.span_of(y), k.span_of(yd), k.span_of(r));
         } catch (...) {
             k.error = std::current_exception();
             return -1; // unrecoverable: IDASolve returns, the exception is rethrown
         }
+        return 0;
     }
 
     static int jacobian_fn(sunrealtype t, sunrealtype cj, N_Vector y, N_Vector, N_Vector, SUNMatrix J, void* data,
                            N_Vector, N_Vector, N_Vector) {
         auto& k = *static_cast<Impl*>(data);
         try {
-            k.jacobian(t, cj, N_VGetArrayPointer(y), J);
+            k.eq.jacobian(t, cj, k.span_of(y), std::span<double>(SM_DATA_D(J), k.N * k.N));
         } catch (...) {
             k.error = std::current_exception();
             return -1;
@@ -149,39 +194,6 @@ struct Ida::Impl {
 
     static void check(int flag, const char* what) { sundials::check_setup(flag, "IDA", what, IDAGetReturnFlagName); }
 
-    /// Y and Ẏ consistent with the world's (q, q') projected onto the constraints: p = ∂L/∂q',
-    /// q̈ and λ from the saddle-point system, ṗ = F + Gᵀλ, μ = 0.
-    void consistent_state(const World& w) {
-        double* y = N_VGetArrayPointer(yy);
-        double* yd = N_VGetArrayPointer(yp);
-        for (std::size_t i = 0; i < n; ++i) {
-            q[i] = w.at(kGQ, static_cast<Index>(i));
-            v[i] = w.at(kGV, static_cast<Index>(i));
-        }
-        if (m > 0) {
-            project_onto_constraints(sys, w.time, q, v, opt.projection);
-            sys.accelerations_and_multipliers(w.time, q, v, acc, lambda);
-            sys.constraint_matrix(w.time, q, G);
-        } else {
-            sys.accelerations(w.time, q, v, acc);
-        }
-        sys.momenta(w.time, q, v, p);
-        sys.generalized_forces(w.time, q, v, F);
-        N_VConst(0.0, yy);
-        N_VConst(0.0, yp);
-        for (std::size_t i = 0; i < n; ++i) {
-            y[oQ + i] = q[i];
-            y[oV + i] = v[i];
-            y[oP + i] = p[i];
-            yd[oQ + i] = v[i];
-            yd[oV + i] = acc[i];
-            double glam = 0;
-            for (std::size_t c = 0; c < m; ++c) glam += G[c * n + i] * lambda[c];
-            yd[oP + i] = F[i] + glam;
-        }
-        for (std::size_t c = 0; c < m; ++c) y[oL + c] = lambda[c];
-    }
-
     ~Impl() {
         if (mem) IDAFree(&mem);
         if (LS) SUNLinSolFree(LS);
@@ -194,28 +206,18 @@ struct Ida::Impl {
     }
 };
 
-Ida::Ida(LagrangianSystem system, Options options) : impl_(std::make_unique<Impl>()) {
-    auto& k = *impl_;
+Ida::Ida(LagrangianSystem system, Options options) {
     if (options.exact_jacobian && !system.canonical_jacobian)
         throw std::invalid_argument("Ida: the system has no canonical_jacobian (set Options.exact_jacobian = false)");
     if (!(options.rtol > 0) || !(options.atol > 0)) throw std::invalid_argument("Ida: rtol and atol must be positive");
-    k.sys = std::move(system);
+    impl_ = std::make_unique<Impl>(std::move(system));
+    auto& k = *impl_;
     k.opt = options;
-    k.n = k.sys.dof;
-    k.m = k.sys.n_constraints;
-    for (std::size_t c = 0; c < k.m; ++c)
-        if (k.sys.constraint_holonomic[c]) k.holonomic.push_back(c);
-    k.mh = k.holonomic.size();
-    k.N = 3 * k.n + k.m + k.mh;
-    k.oQ = k.rQ = 0;
-    k.oV = k.rV = k.n;
-    k.oP = k.rP = 2 * k.n;
-    k.oL = k.rPsi = 3 * k.n;
-    k.oM = k.rPhi = 3 * k.n + k.m;
-    for (auto* s : {&k.p, &k.F, &k.qt, &k.q, &k.v, &k.acc}) s->assign(k.n, 0.0);
-    for (auto* s : {&k.dp, &k.dF}) s->assign(2 * k.n * k.n, 0.0);
-    for (auto* s : {&k.G, &k.Gp, &k.Gm}) s->assign(k.m * k.n, 0.0);
-    for (auto* s : {&k.psi, &k.phi, &k.psip, &k.psim, &k.lambda}) s->assign(k.m, 0.0);
+    k.n = k.eq.system().dof;
+    k.m = k.eq.system().n_constraints;
+    k.N = k.eq.size();
+    k.q.assign(k.n, 0.0);
+    k.v.assign(k.n, 0.0);
     Impl::check(SUNContext_Create(nullptr, &k.ctx), "SUNContext_Create");
     const auto N = static_cast<sunindextype>(k.N);
     k.yy = N_VNew_Serial(N, k.ctx);
@@ -231,11 +233,12 @@ Ida::Ida(LagrangianSystem system, Options options) : impl_(std::make_unique<Impl
     // tolerance far above any value): their Newton corrections carry the round-off of φ and ψ
     // times c_j ~ 1/h, noise that no iteration removes. They act on the solution only through
     // ṗ and q̇, whose corrections are tested.
+    const auto o = k.eq.offsets();
     double* id = N_VGetArrayPointer(k.id);
     double* at = N_VGetArrayPointer(k.atol);
     for (std::size_t i = 0; i < k.N; ++i) {
-        id[i] = (i < k.oV || (i >= k.oP && i < k.oL)) ? 1.0 : 0.0;
-        at[i] = i < k.oL ? options.atol : 1e300;
+        id[i] = (i < o.v || (i >= o.p && i < o.lambda)) ? 1.0 : 0.0;
+        at[i] = i < o.lambda ? options.atol : 1e300;
     }
 }
 
@@ -246,7 +249,11 @@ void Ida::advance(World& w, double t_end) {
     const double* y = N_VGetArrayPointer(k.yy);
     if (!k.last.matches(w, k.n)) {
         // restart from the world (projected onto the constraints), consistent Y and Ẏ
-        k.consistent_state(w);
+        for (std::size_t i = 0; i < k.n; ++i) {
+            k.q[i] = w.at(kGQ, static_cast<Index>(i));
+            k.v[i] = w.at(kGV, static_cast<Index>(i));
+        }
+        k.eq.consistent_values(w.time, k.q, k.v, k.opt.projection, k.span_of(k.yy), k.span_of(k.yp));
         if (!k.initialized) {
             Impl::check(IDAInit(k.mem, Impl::residual_fn, w.time, k.yy, k.yp), "IDAInit");
             Impl::check(IDASetUserData(k.mem, &k), "IDASetUserData");
@@ -267,15 +274,16 @@ void Ida::advance(World& w, double t_end) {
     k.error = nullptr;
     k.message.clear();
     const int flag = IDASolve(k.mem, t_end, &t_reached, k.yy, k.yp, IDA_NORMAL);
+    const auto o = k.eq.offsets();
     for (std::size_t i = 0; i < k.n; ++i) {
-        w.at(kGQ, static_cast<Index>(i)) = y[k.oQ + i];
-        w.at(kGV, static_cast<Index>(i)) = y[k.oV + i];
+        w.at(kGQ, static_cast<Index>(i)) = y[o.q + i];
+        w.at(kGV, static_cast<Index>(i)) = y[o.v + i];
     }
     w.time = flag < 0 ? t_reached : t_end;
     // IDA's steps satisfy the constraints to its Newton tolerance, its interpolant between
     // them does not quite: the output is projected (IDA's own state is left as it is)
     if (k.m > 0 && flag >= 0 && !k.error)
-        project_onto_constraints(k.sys, w.time, w.field(kGQ), w.field(kGV), k.opt.projection);
+        project_onto_constraints(k.eq.system(), w.time, w.field(kGQ), w.field(kGV), k.opt.projection);
     k.last.remember(w, k.n);
     if (k.error) std::rethrow_exception(k.error);
     if (flag < 0)

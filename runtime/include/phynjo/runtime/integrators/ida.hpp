@@ -24,8 +24,44 @@
 #include "phynjo/runtime/models/constraint_projection.hpp"
 
 #include <memory>
+#include <span>
+#include <vector>
 
 namespace phynjo::runtime {
+
+/// The stabilized index-2 equations above, on their own: residuals, their Jacobian, and
+/// consistent initial values — what Ida hands to IDA, open to tests and to other DAE solvers.
+/// Allocates only when constructed.
+class GglEquations {
+public:
+    /// Where q, q', p, λ, μ start in Y (and the residual rows: q̇ rows, p rows, ṗ rows, ψ, φ_h).
+    struct Offsets {
+        std::size_t q = 0, v = 0, p = 0, lambda = 0, mu = 0;
+    };
+    explicit GglEquations(LagrangianSystem system);
+    /// N = 3·dof + m + m_h, the number of unknowns and of residuals.
+    [[nodiscard]] std::size_t size() const noexcept { return N_; }
+    [[nodiscard]] Offsets offsets() const noexcept { return off_; }
+    [[nodiscard]] const LagrangianSystem& system() const noexcept { return sys_; }
+    /// R(t, Y, Ẏ) (size N each).
+    void residual(double t, std::span<const double> Y, std::span<const double> Yd, std::span<double> R);
+    /// ∂R/∂Y + cj·∂R/∂Ẏ at (t, Y), column-major N×N (SUNDIALS' dense layout). Needs the
+    /// system's canonical_jacobian; the constraints' curvature by central differences.
+    void jacobian(double t, double cj, std::span<const double> Y, std::span<double> J);
+    /// Y and Ẏ consistent with (q, q') at t: (q, q') projected onto the constraints, p =
+    /// ∂L/∂q', q̈ and λ from the saddle-point system, ṗ = F + Gᵀλ, μ = 0: R(t, Y, Ẏ) = 0 up to
+    /// round-off. Throws what the projection and the solve throw (SingularMassMatrix, …).
+    void consistent_values(double t, std::span<const double> q, std::span<const double> qdot,
+                           const ProjectionOptions& projection, std::span<double> Y, std::span<double> Yd);
+
+private:
+    LagrangianSystem sys_;
+    std::size_t n_ = 0, m_ = 0, mh_ = 0, N_ = 0;
+    Offsets off_;
+    std::vector<std::size_t> holonomic_; ///< the holonomic rows of G, in file order
+    // scratch, sized once
+    std::vector<double> p_, F_, G_, psi_, phi_, dp_, dF_, qt_, Gp_, Gm_, psip_, psim_, q_, v_, acc_, lambda_;
+};
 
 class Ida {
 public:
