@@ -8,31 +8,16 @@
 #include "spherical_pendulum.hpp"
 #include "stiff_chain.hpp"
 
+#include "rk4_reference.hpp"
+
 #include <catch2/catch.hpp>
 
 #include <cmath>
 
 using namespace phynjo::runtime;
+using test::difference;
+using test::rk4_reference;
 
-namespace {
-
-/// The largest difference of q and q' between two worlds.
-double difference(const World& a, const World& b, std::size_t n) {
-    double d = 0;
-    for (auto f : {kGQ, kGV})
-        for (std::size_t i = 0; i < n; ++i) d = std::max(d, std::fabs(a.at(f, i) - b.at(f, i)));
-    return d;
-}
-
-World rk4_reference(const LagrangianSystem& s, double t_end, double dt) {
-    World w = make_lagrangian_world(s);
-    Stepper st(lagrangian_rk4(s, w.layout_ptr()));
-    const long steps = std::lround(t_end / dt);
-    for (long k = 0; k < steps; ++k) st.step(w, dt);
-    return w;
-}
-
-} // namespace
 
 // Bugs caught: a wrong right side (q' and q'' swapped), the Jacobian's layout (row-major
 // handed to CVODE's column-major matrix: Newton then diverges or crawls), the interpolated

@@ -18,12 +18,6 @@
 
 namespace phynjo::runtime {
 
-namespace {
-
-std::string flag_name(long flag) { return sundials::flag_name(CVodeGetReturnFlagName, flag); }
-
-} // namespace
-
 struct Cvode::Impl {
     LagrangianSystem sys;
     Options opt;
@@ -162,20 +156,9 @@ void Cvode::advance(World& w, double t_end) {
     k.error = nullptr;
     k.message.clear();
     const int flag = CVode(k.mem, t_end, k.y, &t_reached, CV_NORMAL);
-    for (std::size_t i = 0; i < k.n; ++i) {
-        w.at(kGQ, static_cast<Index>(i)) = y[i];
-        w.at(kGV, static_cast<Index>(i)) = y[k.n + i];
-    }
-    w.time = flag < 0 ? t_reached : t_end;
-    // constrained: CVODE projects its steps, not the interpolant between them; project the
-    // output too (CVODE's own state is left as it is, and the next call continues from it)
-    if (k.sys.n_constraints > 0 && flag >= 0 && !k.error)
-        project_onto_constraints(k.sys, w.time, w.field(kGQ), w.field(kGV), k.opt.projection);
-    k.last.remember(w, k.n);
-    if (k.error) std::rethrow_exception(k.error);
-    if (flag < 0)
-        throw ConvergenceError("CVODE stopped at t = " + std::to_string(t_reached) + ": " + flag_name(flag) +
-                               (k.message.empty() ? "" : " (" + k.message + ")"));
+    // CVODE projects its steps, not the interpolant between them: the output is projected too
+    sundials::finish_advance(w, y, y + k.n, flag, t_reached, t_end, k.sys, k.opt.projection, k.last, k.error, "CVODE",
+                             CVodeGetReturnFlagName, k.message);
 }
 
 Cvode::Stats Cvode::stats() const {

@@ -19,12 +19,6 @@
 
 namespace phynjo::runtime {
 
-namespace {
-
-std::string flag_name(long flag) { return sundials::flag_name(IDAGetReturnFlagName, flag); }
-
-} // namespace
-
 GglEquations::GglEquations(LagrangianSystem system) : sys_(std::move(system)) {
     n_ = sys_.dof;
     m_ = sys_.n_constraints;
@@ -274,21 +268,11 @@ void Ida::advance(World& w, double t_end) {
     k.error = nullptr;
     k.message.clear();
     const int flag = IDASolve(k.mem, t_end, &t_reached, k.yy, k.yp, IDA_NORMAL);
-    const auto o = k.eq.offsets();
-    for (std::size_t i = 0; i < k.n; ++i) {
-        w.at(kGQ, static_cast<Index>(i)) = y[o.q + i];
-        w.at(kGV, static_cast<Index>(i)) = y[o.v + i];
-    }
-    w.time = flag < 0 ? t_reached : t_end;
     // IDA's steps satisfy the constraints to its Newton tolerance, its interpolant between
-    // them does not quite: the output is projected (IDA's own state is left as it is)
-    if (k.m > 0 && flag >= 0 && !k.error)
-        project_onto_constraints(k.eq.system(), w.time, w.field(kGQ), w.field(kGV), k.opt.projection);
-    k.last.remember(w, k.n);
-    if (k.error) std::rethrow_exception(k.error);
-    if (flag < 0)
-        throw ConvergenceError("IDA stopped at t = " + std::to_string(t_reached) + ": " + flag_name(flag) +
-                               (k.message.empty() ? "" : " (" + k.message + ")"));
+    // them does not quite: the output is projected
+    const auto o = k.eq.offsets();
+    sundials::finish_advance(w, y + o.q, y + o.v, flag, t_reached, t_end, k.eq.system(), k.opt.projection, k.last,
+                             k.error, "IDA", IDAGetReturnFlagName, k.message);
 }
 
 Ida::Stats Ida::stats() const {

@@ -2,9 +2,11 @@
 // What the SUNDIALS integrators (cvode.cpp, ida.cpp) share: a flag's name, the check that a
 // world is where the solver left it (continue its history) or was changed (restart), and the
 // setup check. Internal to the runtime.
+#include "phynjo/runtime/models/constraint_projection.hpp"
 #include "phynjo/runtime/models/lagrangian_system.hpp"
 
 #include <cstdlib>
+#include <exception>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -49,6 +51,30 @@ struct LastState {
         }
     }
 };
+
+/// The end of a solver's advance to t_end: (q, q') into the world at t_end (at the time
+/// reached when the solver failed), the output projected onto a constrained model's
+/// constraints (the solver's own state is left as it is), the state remembered; then the
+/// model's exception rethrown, or the solver's failure (a negative flag) thrown as a
+/// ConvergenceError naming the flag, the time reached and the solver's message.
+inline void finish_advance(World& w, const double* q, const double* v, int flag, double t_reached, double t_end,
+                           const LagrangianSystem& sys, const ProjectionOptions& projection, LastState& last,
+                           const std::exception_ptr& error, const char* solver, char* (*name_of)(long),
+                           const std::string& message) {
+    const std::size_t n = sys.dof;
+    for (std::size_t i = 0; i < n; ++i) {
+        w.at(kGQ, static_cast<Index>(i)) = q[i];
+        w.at(kGV, static_cast<Index>(i)) = v[i];
+    }
+    w.time = flag < 0 ? t_reached : t_end;
+    if (sys.n_constraints > 0 && flag >= 0 && !error)
+        project_onto_constraints(sys, w.time, w.field(kGQ), w.field(kGV), projection);
+    last.remember(w, n);
+    if (error) std::rethrow_exception(error);
+    if (flag < 0)
+        throw ConvergenceError(std::string(solver) + " stopped at t = " + std::to_string(t_reached) + ": " +
+                               flag_name(name_of, flag) + (message.empty() ? "" : " (" + message + ")"));
+}
 
 } // namespace phynjo::runtime::sundials
 
