@@ -1,7 +1,7 @@
 #pragma once
-// What the SUNDIALS integrators (cvode.cpp, ida.cpp) share: a flag's name, the check that a
-// world is where the solver left it (continue its history) or was changed (restart), and the
-// setup check. Internal to the runtime.
+// What the SUNDIALS integrators (cvode.cpp, ida.cpp) share: a flag's name, the setup check,
+// the check that a world is where the solver left it (continue its history) or was changed
+// (restart), the end of an advance, and the solver as a workflow. Internal to the runtime.
 #include "phynjo/runtime/models/constraint_projection.hpp"
 #include "phynjo/runtime/models/lagrangian_system.hpp"
 
