@@ -35,8 +35,9 @@ options:
   --emit=KIND    cpp (default), eom (M and f in the input syntax), latex (a LaTeX document),
                  linear (A = dy'/dy and B = dy'/du about --at, exact, with the eigenvalues of A)
   --at STATE     with --emit=linear: the state, NAME=EXPR separated by commas; NAME a
-                 coordinate x, a velocity x' or t; EXPR numbers, pi, functions and
-                 parameters (exact: th=pi gives A and B in closed form); what is not given is 0
+                 coordinate x, a velocity x', t, or an input u; EXPR numbers, pi, functions
+                 and parameters (exact: th=pi gives A and B in closed form); a coordinate,
+                 velocity or t not given is 0, an input not given is at its default
   --format=latex with --emit=linear: A and B as LaTeX matrices
   --main         add a main() that simulates from the initial state and writes CSV
                  (t, q..., q'..., E); run it with --help for its options
