@@ -187,12 +187,7 @@ std::string array_of(const std::string& name, const std::vector<std::string>& en
         for (std::size_t k = 0; k < entries.size(); ++k) s += (k ? ", " : "") + entries[k];
         return s + "};\n";
     }
-    s = "    double " + name + "[" + std::to_string(entries.size()) + "];\n";
-    Pieces pieces;
-    for (std::size_t k = 0; k < entries.size(); ++k)
-        pieces.add(s, "    " + name + "[" + std::to_string(k) + "] = " + entries[k] + ";\n");
-    pieces.close(s);
-    return s;
+    return "    double " + name + "[" + std::to_string(entries.size()) + "];\n" + store_all(name, entries);
 }
 
 std::string store_all(const std::string& target, const std::vector<std::string>& entries) {

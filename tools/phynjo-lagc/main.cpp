@@ -93,6 +93,24 @@ int main(int argc, char** argv) {
     bool have_at = false;
     bool with_main = false;
     std::size_t parts = 1, piece_threshold = codegen::kPieceThreshold, split_threshold = codegen::kSplitThreshold;
+    // the options that shape generated C++, each a count within bounds
+    struct CountOption {
+        const char* name;
+        std::size_t* target;
+        unsigned long long lo, hi;
+        const char* what;
+    };
+    constexpr auto any = ~0ull;
+    const CountOption count_options[] = {{"--parts", &parts, 1, 16, "a number from 1 to 16"},
+                                         {"--pieces-above", &piece_threshold, 1, any, "a positive number of statements"},
+                                         {"--split-above", &split_threshold, 0, any, "a number of bytes"}};
+    auto count_option = [&](const std::string& a) -> const CountOption* {
+        for (const CountOption& c : count_options) {
+            const std::string name = c.name;
+            if (a == name || a.rfind(name + "=", 0) == 0) return &c;
+        }
+        return nullptr;
+    };
     codegen::DeriveLimits derive_limits;
     std::size_t max_output = 256u << 20;
     for (int i = 1; i < argc; ++i) {
@@ -120,27 +138,16 @@ int main(int argc, char** argv) {
             format = a.substr(9);
             if (format != "text" && format != "latex") return usage_error("unknown --format '" + format + "' (text or latex)");
         } else if (a == "--main") with_main = true;
-        else if (a == "--split-above" || a.rfind("--split-above=", 0) == 0) {
-            if (a == "--split-above" && ++i >= argc) return usage_error("--split-above needs a number of bytes");
-            const std::string v = a == "--split-above" ? argv[i] : a.substr(14);
+        else if (const CountOption* c = count_option(a)) {
+            // `--NAME N` or `--NAME=N`, N within the option's bounds
+            const std::string name = c->name;
+            if (a == name && ++i >= argc) return usage_error(name + " needs " + c->what);
+            const std::string v = a == name ? argv[i] : a.substr(name.size() + 1);
             char* end = nullptr;
             const unsigned long long n = std::strtoull(v.c_str(), &end, 10);
-            if (v.empty() || *end != '\0') return usage_error("--split-above takes a number of bytes, not '" + v + "'");
-            split_threshold = static_cast<std::size_t>(n);
-        } else if (a == "--pieces-above" || a.rfind("--pieces-above=", 0) == 0) {
-            if (a == "--pieces-above" && ++i >= argc) return usage_error("--pieces-above needs a number of statements");
-            const std::string v = a == "--pieces-above" ? argv[i] : a.substr(15);
-            char* end = nullptr;
-            const unsigned long long n = std::strtoull(v.c_str(), &end, 10);
-            if (v.empty() || *end != '\0' || n < 1) return usage_error("--pieces-above takes a positive number, not '" + v + "'");
-            piece_threshold = static_cast<std::size_t>(n);
-        } else if (a == "--parts" || a.rfind("--parts=", 0) == 0) {
-            if (a == "--parts" && ++i >= argc) return usage_error("--parts needs a number of files, e.g. --parts 4");
-            const std::string v = a == "--parts" ? argv[i] : a.substr(8);
-            char* end = nullptr;
-            const unsigned long n = std::strtoul(v.c_str(), &end, 10);
-            if (v.empty() || *end != '\0' || n < 1 || n > 16) return usage_error("--parts takes a number from 1 to 16, not '" + v + "'");
-            parts = n;
+            if (v.empty() || *end != '\0' || n < c->lo || n > c->hi)
+                return usage_error(name + " takes " + c->what + ", not '" + v + "'");
+            *c->target = static_cast<std::size_t>(n);
         }
         else if (a.rfind("--max-nodes=", 0) == 0 || a.rfind("--max-output=", 0) == 0) {
             const std::string v = a.substr(a.find('=') + 1);

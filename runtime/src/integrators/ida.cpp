@@ -145,7 +145,7 @@ struct Ida::Impl {
     explicit Impl(LagrangianSystem s) : eq(std::move(s)) {}
     GglEquations eq;
     Options opt;
-    std::size_t n = 0, m = 0, N = 0;
+    std::size_t n = 0, N = 0; ///< dof and the size of the equations (eq's, kept at hand)
     SUNContext ctx = nullptr;
     N_Vector yy = nullptr, yp = nullptr, id = nullptr, atol = nullptr;
     SUNMatrix A = nullptr;
@@ -208,7 +208,6 @@ Ida::Ida(LagrangianSystem system, Options options) {
     auto& k = *impl_;
     k.opt = options;
     k.n = k.eq.system().dof;
-    k.m = k.eq.system().n_constraints;
     k.N = k.eq.size();
     k.q.assign(k.n, 0.0);
     k.v.assign(k.n, 0.0);
