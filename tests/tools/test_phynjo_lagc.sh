@@ -49,4 +49,12 @@ err=$("$lagc" "$work/huge.lag" -o "$work/huge.cpp" 2>&1); rc=$?
 [ $rc -eq 1 ] && echo "$err" | grep -q "file too large (110000000 bytes" && ok "a 110 MB file: diagnosed" || bad "huge file [$err]"
 printf '\x89PNG\r\n' > "$work/bin.lag"
 "$lagc" "$work/bin.lag" -o "$work/bin.cpp" 2>&1 | grep -q "not UTF-8 text" && ok "binary file: diagnosed" || bad "binary file"
+# --parts, --pieces-above, --split-above: counts within bounds, C++ only; the part files written
+for bad_opt in "--parts 0" "--parts 17" "--parts" "--pieces-above=0" "--split-above x"; do
+  err=$("$lagc" "$models/double_pendulum.lag" -o "$work/p.cpp" $bad_opt 2>&1); rc=$?
+  [ $rc -eq 2 ] && echo "$err" | grep -q -- "${bad_opt%%[ =]*}" && ok "$bad_opt: usage error" || bad "$bad_opt (exit $rc): $err"
+done
+"$lagc" "$models/double_pendulum.lag" --emit=eom --parts 2 >/dev/null 2>&1; [ $? -eq 2 ] && ok "--parts with --emit=eom: usage error" || bad "--parts with --emit=eom"
+"$lagc" "$models/double_pendulum.lag" -o "$work/p.cpp" --parts=3 && [ -s "$work/p.part2.cpp" ] && [ -s "$work/p.part3.cpp" ] \
+  && [ ! -e "$work/p.part4.cpp" ] && ok "--parts=3: p.part2.cpp and p.part3.cpp beside p.cpp" || bad "--parts=3 files"
 finish
