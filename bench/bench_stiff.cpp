@@ -26,12 +26,12 @@ struct Run {
     double x[3] = {0, 0, 0};
 };
 
-Run run(const LagrangianSystem& s, bool exact) {
+Run run(const LagrangianSystem& s, bool exact, Cvode::Options::LinearSolver solver = Cvode::Options::LinearSolver::second_order) {
     Run r;
     for (int rep = 0; rep < 7; ++rep) {
         World w = make_lagrangian_world(s);
         const auto t0 = std::chrono::steady_clock::now();
-        Cvode cv(s, {.rtol = 1e-8, .atol = 1e-10, .exact_jacobian = exact});
+        Cvode cv(s, {.rtol = 1e-8, .atol = 1e-10, .exact_jacobian = exact, .linear_solver = solver});
         cv.advance(w, 20.0);
         const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         if (sec < r.seconds) {
@@ -45,15 +45,19 @@ Run run(const LagrangianSystem& s, bool exact) {
 
 /// CVODE exact against difference quotients, then SciPy, for one chain; prints the ratios.
 void compare(const LagrangianSystem& s, int n, const std::string& suffix) {
-    const Run exact = run(s, true), dq = run(s, false);
+    const Run exact = run(s, true), dq = run(s, false),
+              exact_dense = run(s, true, Cvode::Options::LinearSolver::dense);
     std::printf("bench_stiff: stiff chain of %d masses (k1 = 1e6 N/m, critically damped; soft springs 1 N/m), 0..20 s, "
                 "rtol 1e-8, atol 1e-10\n", n);
-    for (const auto* r : {&exact, &dq})
-        std::printf("    CVODE, %s Jacobian: %.3f ms, %ld steps, %ld right sides (+%ld for difference quotients), %ld "
-                    "Jacobians, %ld Newton failures, %ld error-test failures; x1..x3 = %.9g %.9g %.9g\n",
-                    r == &exact ? "exact" : "difference-quotient", 1e3 * r->seconds, r->stats.steps,
+    for (const auto* r : {&exact, &exact_dense, &dq})
+        std::printf("    CVODE, %s: %.3f ms, %ld steps, %ld right sides (+%ld for difference quotients), %ld "
+                    "Jacobians, %ld Newton failures, %ld error-test failures, %ld linear setups; x1..x3 = %.9g %.9g %.9g\n",
+                    r == &exact         ? "exact Jacobian, block elimination (ours)"
+                    : r == &exact_dense ? "exact Jacobian, SUNDIALS dense LU"
+                                        : "difference-quotient Jacobian, SUNDIALS dense LU (reference)",
+                    1e3 * r->seconds, r->stats.steps,
                     r->stats.rhs_evaluations, r->stats.difference_quotient_rhs, r->stats.jacobian_evaluations, r->stats.newton_failures,
-                    r->stats.error_test_failures, r->x[0],
+                    r->stats.error_test_failures, r->stats.linear_setups, r->x[0],
                     r->x[1], r->x[2]);
     std::printf("ratio cvode_jac_stiff_chain%s = %.3f\n", suffix.c_str(), dq.seconds / exact.seconds);
     // SciPy: the first python3 on the path that has it, else Debian's

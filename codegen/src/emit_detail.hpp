@@ -100,6 +100,14 @@ inline std::size_t upper_index(std::size_t i, std::size_t j, std::size_t n) {
     return a * n - a * (a - 1) / 2 + (b - a); // row a of the upper triangle starts there
 }
 
+/// True when the mass matrix (row-major n×n) is diagonal as an expression (every
+/// off-diagonal entry the literal 0): particles in Cartesian coordinates.
+bool is_diagonal(const std::vector<Expr>& mass_matrix, std::size_t n);
+/// `double d[n] = {…};` of the diagonal entries (C++ expressions) and the check that none is
+/// zero or below kSingularTolerance times the largest: SingularMassMatrix naming `where`.
+/// (Dividing by d[i] gives the bits of LDLᵀ on a diagonal matrix, without its O(n³) work.)
+std::string diagonal_mass(const std::vector<std::string>& diagonal, const std::string& where);
+
 /// `(void)t;` and `(void)P;` for what a body does not use.
 std::string unused(bool uses_t, bool uses_params, bool has_t = true);
 

@@ -8,6 +8,25 @@
 
 namespace phynjo::codegen::detail {
 
+bool is_diagonal(const std::vector<Expr>& mass_matrix, std::size_t n) {
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t j = 0; j < n; ++j)
+            if (i != j && !mass_matrix[i * n + j].is_zero()) return false;
+    return true;
+}
+
+std::string diagonal_mass(const std::vector<std::string>& diagonal, const std::string& where) {
+    std::ostringstream s;
+    s << "    const double d[" << diagonal.size() << "] = {";
+    for (std::size_t i = 0; i < diagonal.size(); ++i) s << (i ? ", " : "") << diagonal[i];
+    s << "};\n    double top = 0;\n"
+      << "    for (double v : d) top = std::max(top, std::fabs(v));\n"
+      << "    for (double v : d)\n"
+      << "        if (!(std::fabs(v) > phynjo::runtime::kSingularTolerance * top))\n"
+      << "            throw phynjo::runtime::SingularMassMatrix(\"" << where << ": the mass matrix is singular\");\n";
+    return s.str();
+}
+
 std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const Names& names) {
     const std::size_t n = m.dof();
     std::ostringstream s;
@@ -146,9 +165,7 @@ std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const N
           << "                   std::span<double> qddot) {\n"
           << sizes("accelerations", {{"q", n}, {"qdot", n}, {"qddot", n}}) << unused(uses_t, uses_p) << b;
         auto fi = [&](std::size_t i) { return res[upper.size() + i]; };
-        bool diagonal = true;
-        for (std::size_t i = 0; i < n; ++i)
-            for (std::size_t j = i + 1; j < n; ++j) diagonal = diagonal && eom.mass_matrix[i * n + j].is_zero();
+        const bool diagonal = is_diagonal(eom.mass_matrix, n);
         if (n == 1) {
             s << "    const double m00 = " << Mij(0, 0) << ";\n"
               << "    if (m00 == 0) throw phynjo::runtime::SingularMassMatrix(\"" << m.name
@@ -165,16 +182,9 @@ std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const N
               << "    qddot[0] = (m11*f0 - m01*f1)*inv;\n"
               << "    qddot[1] = (m00*f1 - m01*f0)*inv;\n";
         } else if (diagonal) {
-            // M diagonal for every state (particles in Cartesian coordinates): q''_i = f_i/M_ii,
-            // the same numbers LDLᵀ gives for a diagonal matrix, without its O(n³) work
-            s << "    double d[" << n << "] = {";
-            for (std::size_t i = 0; i < n; ++i) s << (i ? ", " : "") << Mij(i, i);
-            s << "};\n    double top = 0;\n"
-              << "    for (double v : d) top = std::max(top, std::fabs(v));\n"
-              << "    for (double v : d)\n"
-              << "        if (!(std::fabs(v) > phynjo::runtime::kSingularTolerance * top))\n"
-              << "            throw phynjo::runtime::SingularMassMatrix(\"" << m.name
-              << "::accelerations: the mass matrix is singular\");\n";
+            std::vector<std::string> d;
+            for (std::size_t i = 0; i < n; ++i) d.push_back(Mij(i, i));
+            s << diagonal_mass(d, m.name + "::accelerations");
             for (std::size_t i = 0; i < n; ++i) s << "    qddot[" << i << "] = (" << fi(i) << ")/d[" << i << "];\n";
         } else {
             s << "    double A[" << n * n << "] = {";

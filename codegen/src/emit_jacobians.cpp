@@ -53,31 +53,48 @@ void emit_one(std::ostringstream& s, const Model& m, const EquationsOfMotion& eo
         for (std::size_t k = 0; k < len; ++k) entries.push_back(entry(k));
         s << array_of(name, entries);
     };
-    array("M", n * n, [&](std::size_t k) {
-        const std::size_t i = k / n, j = k % n;
-        return j <= i ? res[upper_index(i, j, n)] : std::string("0.0");
-    });
-    array("f", n, [&](std::size_t i) { return res[off_f + i]; });
-    if (mc > 0) {
-        array("G", mc * n, [&](std::size_t k) { return res[off_g + k]; });
-        array("gamma", mc, [&](std::size_t k) { return res[off_gamma + k]; });
-        s << "    const phynjo::runtime::KktFactor<" << n << ", " << mc << "> kkt(M, G, constraint_names, \"" << where
-          << "\", t);\n"
-          << "    double acc[" << n << "], lambda[" << mc << "];\n"
-          << "    kkt.solve(f, gamma, acc, lambda);\n";
+    // M diagonal, no constraints (particles in Cartesian coordinates): rows divided by M_ii,
+    // the numbers LDLᵀ gives for a diagonal matrix without its O(n³) factorization and
+    // O(n²) per column
+    const bool diagonal = mc == 0 && is_diagonal(eom.mass_matrix, n);
+    if (diagonal) {
+        std::vector<std::string> d;
+        for (std::size_t i = 0; i < n; ++i) d.push_back(res[upper_index(i, i, n)]);
+        s << diagonal_mass(d, where) << "    double acc[" << n << "];\n";
+        for (std::size_t i = 0; i < n; ++i) s << "    acc[" << i << "] = (" << res[off_f + i] << ")/d[" << i << "];\n";
+        s << "    (void)acc; // read by the entries only when M depends on q\n";
     } else {
-        s << "    const phynjo::runtime::KktFactor<" << n << ", 0> kkt(M);\n"
-          << "    double acc[" << n << "];\n"
-          << "    kkt.solve(f, nullptr, acc, nullptr);\n";
+        array("M", n * n, [&](std::size_t k) {
+            const std::size_t i = k / n, j = k % n;
+            return j <= i ? res[upper_index(i, j, n)] : std::string("0.0");
+        });
+        array("f", n, [&](std::size_t i) { return res[off_f + i]; });
+        if (mc > 0) {
+            array("G", mc * n, [&](std::size_t k) { return res[off_g + k]; });
+            array("gamma", mc, [&](std::size_t k) { return res[off_gamma + k]; });
+            s << "    const phynjo::runtime::KktFactor<" << n << ", " << mc << "> kkt(M, G, constraint_names, \"" << where
+              << "\", t);\n"
+              << "    double acc[" << n << "], lambda[" << mc << "];\n"
+              << "    kkt.solve(f, gamma, acc, lambda);\n";
+        } else {
+            s << "    const phynjo::runtime::KktFactor<" << n << ", 0> kkt(M);\n"
+              << "    double acc[" << n << "];\n"
+              << "    kkt.solve(f, nullptr, acc, nullptr);\n";
+        }
     }
     s << later;
     array("dr", n * cols, [&](std::size_t k) { return res[off_r + k]; });
     if (mc > 0) array("dc", mc * cols, [&](std::size_t k) { return res[off_c + k]; });
     s << "    for (std::size_t k = 0; k < " << n * cols << "; ++k) " << out << "[k] = 0.0;\n";
     if (identity_top) s << "    for (std::size_t i = 0; i < " << n << "; ++i) " << out << "[i * " << cols << " + " << n << " + i] = 1.0;\n";
-    s << "    kkt.solve_columns(" << cols << ", dr, " << (mc > 0 ? "dc" : "nullptr") << ", " << out << ".data() + " << n * cols
-      << ");\n"
-      << "    for (std::size_t k = " << n * cols << "; k < " << 2 * n * cols << "; ++k)\n"
+    if (diagonal)
+        s << "    for (std::size_t i = 0; i < " << n << "; ++i)\n"
+          << "        for (std::size_t j = 0; j < " << cols << "; ++j) " << out << "[" << n * cols << " + i * " << cols
+          << " + j] = dr[i * " << cols << " + j]/d[i];\n";
+    else
+        s << "    kkt.solve_columns(" << cols << ", dr, " << (mc > 0 ? "dc" : "nullptr") << ", " << out << ".data() + "
+          << n * cols << ");\n";
+    s << "    for (std::size_t k = " << n * cols << "; k < " << 2 * n * cols << "; ++k)\n"
       << "        if (!std::isfinite(" << out << "[k])) throw phynjo::runtime::NonFiniteResult(\"" << where
       << ": non-finite result at t = \" + std::to_string(t));\n"
       << "}\n\n";

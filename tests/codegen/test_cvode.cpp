@@ -21,20 +21,27 @@ using test::rk4_reference;
 
 // Bugs caught: a wrong right side (q' and q'' swapped), the Jacobian's layout (row-major
 // handed to CVODE's column-major matrix: Newton then diverges or crawls), the interpolated
-// output at the end of a call, the continuation across calls.
+// output at the end of a call, the continuation across calls; with either linear solver
+// (block elimination of q' = v, SUNDIALS' dense LU) and with difference quotients.
 TEST_CASE("CVODE = RK4 at tight tolerances (double pendulum 2 s, driven model with inputs and t)", "[codegen][cvode]") {
+    using Solver = Cvode::Options::LinearSolver;
+    struct Variant {
+        bool exact;
+        Solver solver;
+    };
     for (const LagrangianSystem& s : {double_pendulum::system({}), driven::system({})}) {
         INFO(s.coordinate_names[0]);
         const World ref = rk4_reference(s, 2.0, 1e-4);
-        for (bool exact : {true, false}) {
+        for (const Variant v : {Variant{true, Solver::second_order}, Variant{true, Solver::dense}, Variant{false, Solver::dense}}) {
+            INFO("exact " << v.exact << ", solver " << static_cast<int>(v.solver));
             World w = make_lagrangian_world(s);
-            Cvode cv(s, {.rtol = 1e-12, .atol = 1e-12, .exact_jacobian = exact});
+            Cvode cv(s, {.rtol = 1e-12, .atol = 1e-12, .exact_jacobian = v.exact, .linear_solver = v.solver});
             for (int k = 1; k <= 20; ++k) cv.advance(w, 0.1 * k); // 20 calls: the history carries over
             CHECK(w.time == 2.0);
             CHECK(difference(w, ref, s.dof) < 1e-8);
             const auto st = cv.stats();
             CHECK(st.steps > 0);
-            if (exact) {
+            if (v.exact) {
                 CHECK(st.jacobian_evaluations > 0);
                 CHECK(st.difference_quotient_rhs == 0); // the exact Jacobian, not difference quotients
                 CHECK(st.newton_failures == 0);         // and a right one: Newton converges at every step
@@ -115,12 +122,14 @@ TEST_CASE("CVODE as a workflow: the generated workflow(\"cvode\"), restarts on a
 TEST_CASE("CVODE on the stiff chain: few steps, no Newton failure, = RK4 (dt = 1 ms)", "[codegen][cvode]") {
     const LagrangianSystem s = stiff_chain::system({});
     const World ref = rk4_reference(s, 20.0, 1e-3);
-    World w = make_lagrangian_world(s);
-    Cvode cv(s, {.rtol = 1e-8, .atol = 1e-10});
-    cv.advance(w, 20.0);
-    const auto st = cv.stats();
-    INFO(st.steps << " steps, " << st.newton_failures << " Newton failures");
-    CHECK(st.steps < 1000);
-    CHECK(st.newton_failures == 0);
-    CHECK(difference(w, ref, s.dof) < 1e-5);
+    for (const auto solver : {Cvode::Options::LinearSolver::second_order, Cvode::Options::LinearSolver::dense}) {
+        World w = make_lagrangian_world(s);
+        Cvode cv(s, {.rtol = 1e-8, .atol = 1e-10, .linear_solver = solver});
+        cv.advance(w, 20.0);
+        const auto st = cv.stats();
+        INFO(st.steps << " steps, " << st.newton_failures << " Newton failures, solver " << static_cast<int>(solver));
+        CHECK(st.steps < 1000);
+        CHECK(st.newton_failures == 0);
+        CHECK(difference(w, ref, s.dof) < 1e-5);
+    }
 }

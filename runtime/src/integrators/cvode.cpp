@@ -1,7 +1,9 @@
-// SUNDIALS CVODE (BDF, Newton, dense direct solver) for generated models, with the model's
-// exact Jacobian. See integrators/cvode.hpp.
+// SUNDIALS CVODE (BDF, Newton, direct solver: block elimination of q' = v, or dense) for
+// generated models, with the model's exact Jacobian. See integrators/cvode.hpp.
 #include "phynjo/runtime/integrators/cvode.hpp"
 
+#include "second_order_linear_solver.hpp"
+#include "serial_vector_ops.hpp"
 #include "sundials_support.hpp"
 
 #include <cvode/cvode.h>
@@ -26,6 +28,7 @@ struct Cvode::Impl {
     N_Vector y = nullptr;
     SUNMatrix A = nullptr;
     SUNLinearSolver LS = nullptr;
+    std::unique_ptr<sundials::SecondOrderNewton> newton; ///< the reduced Newton systems, or A and LS
     void* mem = nullptr;
     bool initialized = false;
     sundials::LastState last;
@@ -65,6 +68,26 @@ struct Cvode::Impl {
         return 0;
     }
 
+    /// The reduced Newton matrix I − γJ_v − γ²J_q from the exact Jacobian, re-evaluated
+    /// unless CVODE says the last one will do (jok).
+    static int linear_system(sunrealtype t, N_Vector yv, N_Vector, SUNMatrix, sunbooleantype jok, sunbooleantype* jcur,
+                             sunrealtype gamma, void* data, N_Vector, N_Vector, N_Vector) {
+        auto& k = *static_cast<Impl*>(data);
+        *jcur = SUNFALSE;
+        if (!jok) {
+            const double* y = N_VGetArrayPointer(yv);
+            try {
+                k.sys.rhs_jacobian(t, std::span<const double>(y, k.n), std::span<const double>(y + k.n, k.n), k.J);
+            } catch (...) {
+                k.error = std::current_exception();
+                return -1;
+            }
+            *jcur = SUNTRUE;
+        }
+        k.newton->form(k.J.data(), gamma);
+        return 0;
+    }
+
     /// Constrained models: the correction onto the constraints after each step.
     static int project(sunrealtype t, N_Vector yv, N_Vector corr, sunrealtype, N_Vector, void* data) {
         auto& k = *static_cast<Impl*>(data);
@@ -95,6 +118,7 @@ struct Cvode::Impl {
 
     ~Impl() {
         if (mem) CVodeFree(&mem);
+        newton.reset();
         if (LS) SUNLinSolFree(LS);
         if (A) SUNMatDestroy(A);
         if (y) N_VDestroy(y);
@@ -118,10 +142,15 @@ Cvode::Cvode(LagrangianSystem system, Options options) : impl_(std::make_unique<
     k.check(SUNContext_Create(nullptr, &k.ctx), "SUNContext_Create");
     const auto N = static_cast<sunindextype>(k.N);
     k.y = N_VNew_Serial(N, k.ctx);
-    k.A = SUNDenseMatrix(N, N, k.ctx);
-    k.LS = SUNLinSol_Dense(k.y, k.A, k.ctx);
+    if (options.exact_jacobian && options.linear_solver == Options::LinearSolver::second_order) {
+        k.newton = std::make_unique<sundials::SecondOrderNewton>(k.n, k.ctx);
+    } else {
+        k.A = SUNDenseMatrix(N, N, k.ctx);
+        k.LS = SUNLinSol_Dense(k.y, k.A, k.ctx);
+    }
     k.mem = CVodeCreate(CV_BDF, k.ctx);
-    if (!k.y || !k.A || !k.LS || !k.mem) throw std::runtime_error("Cvode: out of memory");
+    if (!k.y || (!k.newton && (!k.A || !k.LS)) || !k.mem) throw std::runtime_error("Cvode: out of memory");
+    sundials::use_fast_serial_ops(k.y); // CVODE's vectors are clones of y
 }
 
 Cvode::~Cvode() = default;
@@ -140,8 +169,13 @@ void Cvode::advance(World& w, double t_end) {
             k.check(CVodeSetUserData(k.mem, &k), "CVodeSetUserData");
             k.check(CVodeSetErrHandlerFn(k.mem, Impl::on_error, &k), "CVodeSetErrHandlerFn");
             k.check(CVodeSStolerances(k.mem, k.opt.rtol, k.opt.atol), "CVodeSStolerances");
-            k.check(CVodeSetLinearSolver(k.mem, k.LS, k.A), "CVodeSetLinearSolver");
-            if (k.opt.exact_jacobian) k.check(CVodeSetJacFn(k.mem, Impl::jacobian), "CVodeSetJacFn");
+            if (k.newton) {
+                k.check(CVodeSetLinearSolver(k.mem, k.newton->solver(), k.newton->matrix()), "CVodeSetLinearSolver");
+                k.check(CVodeSetLinSysFn(k.mem, Impl::linear_system), "CVodeSetLinSysFn");
+            } else {
+                k.check(CVodeSetLinearSolver(k.mem, k.LS, k.A), "CVodeSetLinearSolver");
+                if (k.opt.exact_jacobian) k.check(CVodeSetJacFn(k.mem, Impl::jacobian), "CVodeSetJacFn");
+            }
             k.check(CVodeSetMaxNumSteps(k.mem, k.opt.max_steps), "CVodeSetMaxNumSteps");
             if (k.sys.n_constraints > 0) k.check(CVodeSetProjFn(k.mem, Impl::project), "CVodeSetProjFn");
             k.initialized = true;
@@ -172,6 +206,7 @@ Cvode::Stats Cvode::stats() const {
     CVodeGetNumNonlinSolvIters(k.mem, &s.newton_iterations);
     CVodeGetNumNonlinSolvConvFails(k.mem, &s.newton_failures);
     CVodeGetNumErrTestFails(k.mem, &s.error_test_failures);
+    CVodeGetNumLinSolvSetups(k.mem, &s.linear_setups);
     return s;
 }
 

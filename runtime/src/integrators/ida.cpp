@@ -2,6 +2,7 @@
 // solver) for generated models. See integrators/ida.hpp for the equations.
 #include "phynjo/runtime/integrators/ida.hpp"
 
+#include "serial_vector_ops.hpp"
 #include "sundials_support.hpp"
 
 #include <ida/ida.h>
@@ -221,6 +222,7 @@ Ida::Ida(LagrangianSystem system, Options options) {
     k.LS = k.yy && k.A ? SUNLinSol_Dense(k.yy, k.A, k.ctx) : nullptr;
     k.mem = IDACreate(k.ctx);
     if (!k.yy || !k.yp || !k.id || !k.atol || !k.A || !k.LS || !k.mem) throw std::runtime_error("Ida: out of memory");
+    for (N_Vector v : {k.yy, k.yp}) sundials::use_fast_serial_ops(v); // IDA's vectors are clones of yy
     // q and p are differential and carry the error test; q', λ, μ are algebraic. The index-2
     // multipliers λ, μ are also left out of the Newton convergence test (an absolute
     // tolerance far above any value): their Newton corrections carry the round-off of φ and ψ
