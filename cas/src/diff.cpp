@@ -16,6 +16,12 @@ namespace {
 
 /// The derivative of a compound node, given `rec` for the derivative of its children:
 /// sum rule, flattened product rule, power rule, chain rule.
+/// d atan2(y, x) = (x·dy − y·dx)/(x² + y²).
+Expr atan2_derivative(Expr y, Expr x, Expr dy, Expr dx) {
+    if (dy.is_zero() && dx.is_zero()) return dy;
+    return mul({add({mul({x, dy}), mul({Expr(-1), y, dx})}), pow(add({pow(x, Expr(2)), pow(y, Expr(2))}), Expr(-1))});
+}
+
 template <typename Rec>
 Expr derive_compound(Expr e, Rec&& rec) {
     switch (e.kind()) {
@@ -31,17 +37,18 @@ Expr derive_compound(Expr e, Rec&& rec) {
     case Kind::Mul: {
         // d(c·u1·…·un) = Σ_i c·u1…u_{i-1}·u_i'·u_{i+1}…un
         const auto fs = e.args();
-        boost::container::small_vector<Expr, 16> terms, factors;
+        boost::container::small_vector<Expr, 16> terms, factors(fs.size() + 1);
         terms.reserve(fs.size());
-        factors.reserve(fs.size() + 1);
         for (std::size_t i = 0; i < fs.size(); ++i) {
             Expr d = rec(fs[i]);
             if (d.is_zero()) continue;
-            factors.clear();
-            factors.push_back(e->number);
+            // c, the other factors in order, u_i' (filled in place: GCC 12 warns, wrongly, on
+            // push_back into the small vector here)
+            std::size_t k = 0;
+            factors[k++] = e->number;
             for (std::size_t j = 0; j < fs.size(); ++j)
-                if (j != i) factors.push_back(fs[j]);
-            factors.push_back(d);
+                if (j != i) factors[k++] = fs[j];
+            factors[k] = d;
             terms.push_back(mul(as_span(factors)));
         }
         return terms.empty() ? Expr(0) : add(as_span(terms));
@@ -57,6 +64,8 @@ Expr derive_compound(Expr e, Rec&& rec) {
         return mul({e, add({mul({dx, log(b)}), mul({x, db, pow(b, Expr(-1))})})});
     }
     case Kind::Function: {
+        if (static_cast<Function>(e->sub) == Function::Atan2)
+            return atan2_derivative(e.args()[0], e.args()[1], rec(e.args()[0]), rec(e.args()[1]));
         const Expr u = e.args()[0];
         const Expr du = rec(u);
         if (du.is_zero()) return du;
@@ -75,6 +84,7 @@ Expr derive_compound(Expr e, Rec&& rec) {
         case Function::Tanh: return mul({add({Expr(1), mul({Expr(-1), pow(e, Expr(2))})}), du}); // 1 − tanh²
         case Function::Abs: return mul({sign(u), du});
         case Function::Sign: return Expr(0); // lag-format.md: sign' = 0
+        case Function::Atan2: break;      // above
         }
         return Expr(0);
     }

@@ -47,6 +47,7 @@ T evaluate_impl(Expr e, const Bindings<T>& values, std::unordered_map<const Node
             case Function::Tanh: r = std::tanh(u); break;
             case Function::Abs: r = std::fabs(u); break;
             case Function::Sign: r = u > 0 ? T(1) : u < 0 ? T(-1) : T(0); break;
+            case Function::Atan2: r = std::atan2(u, self(self, x.args()[1])); break;
             }
             break;
         }

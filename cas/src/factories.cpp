@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cassert>
 #include <cstring>
+#include <stdexcept>
+#include <string>
 #include <numeric>
 #include <unordered_set>
 
@@ -36,9 +38,12 @@ std::string_view function_name(Function f) {
     case Function::Tanh: return "tanh";
     case Function::Abs: return "abs";
     case Function::Sign: return "sign";
+    case Function::Atan2: return "atan2";
     }
     return "?";
 }
+
+std::size_t function_arity(Function f) { return f == Function::Atan2 ? 2 : 1; }
 
 Expr::Expr(int v) : Expr(make_int(v)) {}
 Expr::Expr(long v) : Expr(make_int(v)) {}
@@ -442,6 +447,14 @@ Expr function_node(Function f, Expr x) {
     return Expr(pool().intern(k));
 }
 
+Expr function_node2(Function f, Expr a, Expr b) {
+    const Expr args[2] = {a, b};
+    NodeKey k{Kind::Function};
+    k.sub = static_cast<std::uint8_t>(f);
+    k.args = args;
+    return Expr(pool().intern(k));
+}
+
 /// If x = c·pi for a rational c, c; otherwise null.
 Expr pi_multiple(Expr x) {
     if (x == pi()) return make_int(1);
@@ -590,6 +603,27 @@ Expr sign(Expr x) {
     return function_node(Function::Sign, x);
 }
 
+Expr atan2(Expr y, Expr x) {
+    const bool yn = y.kind() == Kind::Number, xn = x.kind() == Kind::Number;
+    const int sy = yn ? detail::num_sign(y) : 2, sx = xn ? detail::num_sign(x) : 2;
+    if (sy == 0 && sx == 0) throw DomainError("atan2(0, 0) is undefined");
+    if (sy == 0) return sx > 0 ? make_int(0) : pi(); // on the x axis (either sign of x)
+    if (sx == 0) return sy > 0 ? mul({rational(1, 2), pi()}) : mul({rational(-1, 2), pi()});
+    if (sx == 1) return atan(mul({y, pow(x, make_int(-1))})); // x > 0: the principal branch
+    if (yn && xn) { // x < 0: atan(y/x) ± π, by the sign of y
+        return add({atan(mul({y, pow(x, make_int(-1))})), sy > 0 ? pi() : mul({make_int(-1), pi()})});
+    }
+    return function_node2(Function::Atan2, y, x);
+}
+
+Expr function(Function f, std::span<const Expr> args) {
+    if (args.size() != function_arity(f))
+        throw std::invalid_argument(std::string(function_name(f)) + " takes " + std::to_string(function_arity(f)) +
+                                    (function_arity(f) == 1 ? " argument" : " arguments"));
+    if (f == Function::Atan2) return atan2(args[0], args[1]);
+    return function(f, args[0]);
+}
+
 Expr function(Function f, Expr x) {
     switch (f) {
     case Function::Sin: return sin(x);
@@ -605,6 +639,7 @@ Expr function(Function f, Expr x) {
     case Function::Tanh: return tanh(x);
     case Function::Abs: return abs(x);
     case Function::Sign: return sign(x);
+    case Function::Atan2: throw std::invalid_argument("atan2 takes 2 arguments");
     }
     return x;
 }

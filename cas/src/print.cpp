@@ -153,12 +153,19 @@ private:
         case Function::Atan: return "\\arctan";
         case Function::Sign: return "\\operatorname{sign}";
         case Function::Abs: return "\\operatorname{abs}";
+        case Function::Atan2: return "\\operatorname{atan2}";
         default: return "\\" + std::string(function_name(f));
         }
     }
 
     Out function(Expr x) {
         const Function f = static_cast<Function>(x->sub);
+        if (f == Function::Atan2) { // atan2(y, x)
+            const Out y = print(x.args()[0]), xx = print(x.args()[1]);
+            if (mode_ == Mode::Cpp) return {"std::atan2(" + y.s + ", " + xx.s + ")", Prec::Atom};
+            if (mode_ == Mode::Latex) return {latex_function(f) + "{\\left(" + y.s + ", " + xx.s + " \\right)}", Prec::Atom};
+            return {"atan2(" + y.s + ", " + xx.s + ")", Prec::Atom};
+        }
         Out a = print(x.args()[0]);
         if (mode_ == Mode::Cpp) {
             if (f == Function::Sign) return {"(" + a.s + " > 0 ? 1.0 : " + a.s + " < 0 ? -1.0 : 0.0)", Prec::Atom};
@@ -196,7 +203,8 @@ private:
         }
         if (mode_ == Mode::Latex) {
             Out ex = print(e);
-            if (b.kind() == Kind::Function && e.is_integer() && !is_fn(b, Function::Exp) && !is_fn(b, Function::Abs)) {
+            if (b.kind() == Kind::Function && e.is_integer() && !is_fn(b, Function::Exp) && !is_fn(b, Function::Abs) &&
+                !is_fn(b, Function::Atan2)) {
                 // \sin^{2}{\left(x \right)}
                 const std::string name = latex_function(static_cast<Function>(b->sub));
                 return {name + "^{" + ex.s + "}{\\left(" + print(b.args()[0]).s + " \\right)}", Prec::Atom};

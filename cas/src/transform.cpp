@@ -22,7 +22,7 @@ Expr rebuild(Expr e, std::span<const Expr> a) {
         for (int k = 0; k < e->sub; ++k) x = time_derivative(x);
         return x;
     }
-    case Kind::Function: return function(static_cast<Function>(e->sub), a[0]);
+    case Kind::Function: return function(static_cast<Function>(e->sub), a);
     case Kind::Pow: return pow(a[0], a[1]);
     case Kind::Mul: {
         std::vector<Expr> fs(a.begin(), a.end());

@@ -6,7 +6,7 @@
 
 BOOST_FUSION_ADAPT_STRUCT(phynjo::grammar::ast::Number, text)
 BOOST_FUSION_ADAPT_STRUCT(phynjo::grammar::ast::Name, text)
-BOOST_FUSION_ADAPT_STRUCT(phynjo::grammar::ast::Call, function, arg)
+BOOST_FUSION_ADAPT_STRUCT(phynjo::grammar::ast::Call, function, arg, more)
 BOOST_FUSION_ADAPT_STRUCT(phynjo::grammar::ast::Paren, inner)
 BOOST_FUSION_ADAPT_STRUCT(phynjo::grammar::ast::Postfix, primary, primes)
 BOOST_FUSION_ADAPT_STRUCT(phynjo::grammar::ast::Power, base, exponent)

@@ -159,9 +159,21 @@ private:
             else error(c.function, "unknown function '" + c.function.text + "'");
             return std::nullopt;
         }
+        const std::size_t given = 1 + c.more.size();
+        if (given != f->arity()) {
+            error(c, "'" + c.function.text + "' takes " + (f->arity() == 1 ? std::string("one argument") : "two arguments") +
+                         (f->arity() == 2 ? " (" + c.function.text + "(y, x))" : std::string()) + ", not " +
+                         std::to_string(given));
+            return std::nullopt;
+        }
         Opt a = expression(c.arg.get());
         if (!a) return std::nullopt;
-        Expr r = guarded(c, [&] { return f->apply(*a); });
+        Opt b;
+        if (f->arity() == 2) {
+            b = expression(c.more[0].get());
+            if (!b) return std::nullopt;
+        }
+        Expr r = guarded(c, [&] { return f->arity() == 2 ? f->apply2(*a, *b) : f->apply(*a); });
         return failed_ ? Opt{} : Opt{r};
     }
 };

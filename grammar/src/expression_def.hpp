@@ -128,7 +128,7 @@ inline const auto number_def =
     x3::raw[x3::lexeme[(digits >> -('.' >> *x3::char_("0-9")) | '.' >> digits) >>
                        -(x3::char_("eE") >> -x3::char_("+-") >> digits)]];
 inline const auto name_def = x3::raw[x3::lexeme[x3::char_("A-Za-z_") >> *x3::char_("A-Za-z0-9_")]];
-inline const auto call_def = (name >> '(') > guarded[expression] > ')';
+inline const auto call_def = (name >> '(') > guarded[expression] > *(',' > guarded[expression]) > ')';
 inline const auto paren_def = '(' > guarded[expression] > ')';
 inline const auto primary_def = number | call | name | paren;
 inline const auto postfix_def = primary >> *x3::char_('\'');

@@ -84,6 +84,42 @@ TEST_CASE("contract v2 functions: derivatives, symmetries, values", "[cas][diff]
           Approx(std::asin(0.3) + std::acos(0.3) + std::atan(0.3) + std::sinh(0.3) + std::cosh(0.3) + std::tanh(0.3) + 0.3 - 1));
 }
 
+// Bugs caught: atan2's partial derivatives swapped or of the wrong sign, its arguments
+// swapped in the evaluation, a wrong quadrant in the exact values (atan(y/x) for x < 0),
+// atan2(0, 0) given a value.
+TEST_CASE("atan2(y, x): exact values in every quadrant, derivatives, evaluation", "[cas][diff]") {
+    CHECK(parse("atan2(1, 1)") == parse("pi/4"));
+    CHECK(parse("atan2(1, -1)") == parse("3*pi/4"));
+    CHECK(parse("atan2(-1, -1)") == parse("-3*pi/4"));
+    CHECK(parse("atan2(-2, 2)") == parse("-pi/4"));
+    CHECK(parse("atan2(0, -2)") == parse("pi"));
+    CHECK(parse("atan2(0, 5)") == parse("0"));
+    CHECK(parse("atan2(3, 0)") == parse("pi/2"));
+    CHECK(parse("atan2(-3, 0)") == parse("-pi/2"));
+    CHECK(parse("atan2(y, 2)") == parse("atan(y/2)")); // x > 0: the principal branch
+    CHECK(parse("atan2(1, -2)") == parse("pi - atan(1/2)"));
+    CHECK_THROWS_AS(atan2(Expr(0), Expr(0)), DomainError);
+    const Expr x = symbol("x"), y = symbol("y");
+    const Expr e = atan2(y, x);
+    CHECK(e.kind() == Kind::Function);
+    CHECK(diff(e, y) == parse("x/(x^2 + y^2)"));
+    CHECK(diff(e, x) == parse("-y/(x^2 + y^2)"));
+    // every quadrant: <cmath>'s atan2, and the chain rule through both arguments against
+    // central differences
+    const Expr g = atan2(parse("y^3 - x/2"), parse("x + y/3"));
+    const Expr dgx = diff(g, x), dgy = diff(g, y);
+    for (const auto& [x0, y0] : {std::pair{0.7L, 0.4L}, {-0.6L, 0.9L}, {-0.8L, -0.5L}, {0.5L, -0.7L}}) {
+        INFO("at (" << static_cast<double>(x0) << ", " << static_cast<double>(y0) << ")");
+        CHECK(evaluate(e, Bindings<double>{{x, double(x0)}, {y, double(y0)}}) == std::atan2(double(y0), double(x0)));
+        auto G = [&](long double a, long double b) { return evaluate_extended(g, {{x, a}, {y, b}}); };
+        const long double h = 1e-5L;
+        const long double fx = (G(x0 - 2 * h, y0) - 8 * G(x0 - h, y0) + 8 * G(x0 + h, y0) - G(x0 + 2 * h, y0)) / (12 * h);
+        const long double fy = (G(x0, y0 - 2 * h) - 8 * G(x0, y0 - h) + 8 * G(x0, y0 + h) - G(x0, y0 + 2 * h)) / (12 * h);
+        CHECK(static_cast<double>(evaluate_extended(dgx, {{x, x0}, {y, y0}})) == Approx(static_cast<double>(fx)).margin(1e-9));
+        CHECK(static_cast<double>(evaluate_extended(dgy, {{x, x0}, {y, y0}})) == Approx(static_cast<double>(fy)).margin(1e-9));
+    }
+}
+
 TEST_CASE("the product rule works on the flattened product", "[cas][diff]") {
     // d(u1 u2 u3 u4)/dx = Σ_i (Π_{j≠i} u_j) u_i' : one Mul per term, no nesting
     const Expr r = d("x^2*sin(x)*exp(x)*y", "x");

@@ -25,6 +25,12 @@ except ImportError:
 
 t = sp.Symbol('t')
 
+# The functions of lag-format.md (v1 and v2) as SymPy's own: abs and sign are SymPy's Abs and
+# sign, atan2(y, x) is SymPy's atan2 (the same argument order).
+FUNCTIONS = dict(sin=sp.sin, cos=sp.cos, tan=sp.tan, exp=sp.exp, log=sp.log, sqrt=sp.sqrt,
+                 asin=sp.asin, acos=sp.acos, atan=sp.atan, atan2=sp.atan2, sinh=sp.sinh, cosh=sp.cosh,
+                 tanh=sp.tanh, abs=sp.Abs, sign=sp.sign)
+
 
 def to_python(expr):
     """The .lag expression syntax as a Python expression over the names in `env`."""
@@ -95,7 +101,7 @@ def derive(path):
 def evaluate(expr, env):
     def D(e):
         return sp.diff(e, t)
-    scope = dict(env, D=D, sin=sp.sin, cos=sp.cos, tan=sp.tan, exp=sp.exp, log=sp.log, sqrt=sp.sqrt, pi=sp.pi, t=t)
+    scope = dict(env, D=D, pi=sp.pi, t=t, **FUNCTIONS)
     return eval(to_python(expr), {'__builtins__': {}}, scope)
 
 
@@ -114,7 +120,7 @@ def phynjo_eom(lagc, path, coords, params):
         local = dict(scope)
         for q in coords:
             local[str(q.func) + '_dot'] = sp.Symbol('v_' + str(q.func))
-        local.update(sin=sp.sin, cos=sp.cos, tan=sp.tan, exp=sp.exp, log=sp.log, sqrt=sp.sqrt, pi=sp.pi, t=t)
+        local.update(pi=sp.pi, t=t, **FUNCTIONS)
         value = eval(py, {'__builtins__': {}}, local)
         idx = tuple(int(k) - 1 for k in lhs[2:-1].split(','))
         (M if lhs.startswith('M') else f)[idx if len(idx) == 2 else idx[0]] = value

@@ -12,6 +12,7 @@
 #include "cartesian_pendulum.hpp"
 #include "double_pendulum.hpp"
 #include "four_bar.hpp"
+#include "functions.hpp"
 #include "knife_edge.hpp"
 #include "nlink_cart_5.hpp"
 #include "pendulum.hpp"
@@ -80,6 +81,7 @@ int main(int argc, char** argv) {
     PHYNJO_PROBE(rolling_disk)
     PHYNJO_PROBE(four_bar)
     PHYNJO_PROBE(slider_crank)
+    PHYNJO_PROBE(functions)
     std::fprintf(stderr, "sympy_probe: unknown model '%s'\n", argv[1]);
     return 2;
 }

@@ -294,7 +294,8 @@ TEST_CASE("a velocity-quartic Lagrangian: energy conserved, the midpoint rule sy
 }
 
 // Bug caught: a v2 function printed wrongly into C++ (sign as a plain call, abs as integer
-// std::abs, asin for acos), or derived wrongly inside the equations of motion.
+// std::abs, asin for acos, atan2's arguments swapped), or derived wrongly inside the
+// equations of motion.
 TEST_CASE("generated code with every v2 function: accelerations against the hand-written equations", "[codegen][generated]") {
     const functions::Parameters P;
     std::mt19937_64 rng(5);
@@ -304,7 +305,8 @@ TEST_CASE("generated code with every v2 function: accelerations against the hand
         std::vector<double> q{x, y}, v{xd, yd}, a(2);
         functions::accelerations(P, t, q, v, a);
         // L = (x'^2 + y'^2)/2 - cosh x - log cosh y:  x'' = -sinh x + Q_x,  y'' = -tanh y + Q_y
-        const double ax = -std::sinh(x) - P.c * std::atan(xd) + std::asin(std::sin(t) / 2) + std::acos(1 / (1 + y * y));
+        const double ax = -std::sinh(x) - P.c * std::atan(xd) + std::asin(std::sin(t) / 2) + std::acos(1 / (1 + y * y)) +
+                          P.mu * std::atan2(yd, x);
         const double ay = -std::tanh(y) - P.mu * (yd > 0 ? 1 : yd < 0 ? -1 : 0) - P.k * std::fabs(y) * std::sinh(y);
         CHECK(a[0] == Approx(ax).epsilon(1e-13).margin(1e-14));
         CHECK(a[1] == Approx(ay).epsilon(1e-13).margin(1e-14));

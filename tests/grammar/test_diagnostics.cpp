@@ -23,7 +23,7 @@ TEST_CASE("golden diagnostics", "[grammar][diagnostics]") {
         {"x + 1)", "in.txt:1:6: error: unmatched ')'\n    x + 1)\n         ^\n"},
         {"x * * y", "in.txt:1:5: error: expected an expression, found '*'\n    x * * y\n        ^\n"},
         {"foo(x)",
-         "in.txt:1:1: error: unknown function 'foo' (functions: sin, cos, tan, exp, log, sqrt, asin, acos, atan, sinh, cosh, tanh, abs, sign; missing '*'?)\n"
+         "in.txt:1:1: error: unknown function 'foo' (functions: sin, cos, tan, exp, log, sqrt, asin, acos, atan, atan2, sinh, cosh, tanh, abs, sign; missing '*'?)\n"
          "    foo(x)\n    ^~~\n"},
         {"pi(x)", "in.txt:1:1: error: 'pi' is not a function (missing '*'?)\n    pi(x)\n    ^~\n"},
         {"sin + 1", "in.txt:1:1: error: 'sin' is a function: write sin(…)\n    sin + 1\n    ^~~\n"},
@@ -36,7 +36,11 @@ TEST_CASE("golden diagnostics", "[grammar][diagnostics]") {
         {"", "in.txt:1:1: error: expected an expression\n    \n    ^\n"},
         {"(x +\n  * y)", "in.txt:2:3: error: expected an expression, found '*'\n      * y)\n      ^\n"},
         {"\tx +", "in.txt:1:5: error: expected an expression\n    \tx +\n    \t   ^\n"},
-        {"sin(x, y)", "in.txt:1:6: error: expected ')', found ','\n    sin(x, y)\n         ^\n"},
+        {"sin(x, y)", "in.txt:1:1: error: 'sin' takes one argument, not 2\n    sin(x, y)\n    ^~~~~~~~~\n"},
+        {"atan2(y)", "in.txt:1:1: error: 'atan2' takes two arguments (atan2(y, x)), not 1\n    atan2(y)\n    ^~~~~~~~\n"},
+        {"atan2(y, x, 1)", "in.txt:1:1: error: 'atan2' takes two arguments (atan2(y, x)), not 3\n    atan2(y, x, 1)\n    ^~~~~~~~~~~~~~\n"},
+        {"atan2(y,)", "in.txt:1:9: error: unexpected ')'\n    atan2(y,)\n            ^\n"},
+        {"atan2(0, 0)", "in.txt:1:1: error: atan2(0, 0) is undefined\n    atan2(0, 0)\n    ^~~~~~~~~~~\n"},
         {"1e5000000", "in.txt:1:1: error: number too large (at most 31000 significant digits, a "
                       "decimal exponent within ±31000 and 100000 bits)\n    1e5000000\n    ^~~~~~~~~\n"},
     };

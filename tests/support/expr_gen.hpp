@@ -70,6 +70,7 @@ inline rc::Gen<Expr> gen_expr(int depth = 4) {
         {1, gen::map(sub, [](Expr e) { return cas::tanh(e); })},
         {1, gen::map(sub, [](Expr e) { return cas::abs(e); })},
         {1, gen::map(sub, [](Expr e) { return cas::sign(e); })},
+        {1, gen::map(two, [](std::pair<Expr, Expr> p) { return safely([&] { return cas::atan2(p.first, p.second); }, p.first); })},
     });
 }
 

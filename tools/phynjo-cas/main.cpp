@@ -39,7 +39,8 @@ commands:
 EXPR (or L) may be '-': then one expression per line of standard input, one result line per
 input line (empty for a rejected input; its error goes to standard error).
 Expressions use the syntax of .lag files: + - * / ^, unary -, x' (time derivative),
-sin cos tan exp log sqrt, pi, t (time), exact numbers (9.81 is 981/100).
+sin cos tan exp log sqrt asin acos atan atan2(y, x) sinh cosh tanh abs sign, pi, t (time),
+exact numbers (9.81 is 981/100).
 
 options: --help, --version
 exit status: 0 ok, 1 an input was rejected, 2 usage error

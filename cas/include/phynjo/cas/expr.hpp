@@ -40,14 +40,16 @@ namespace phynjo::cas {
 /// (`-Werror=switch`).
 enum class Kind : std::uint8_t { Number, Constant, Symbol, TimeDerivative, Function, Pow, Mul, Add };
 
-/// Elementary functions of one argument.
-enum class Function : std::uint8_t { Sin, Cos, Tan, Exp, Log, Asin, Acos, Atan, Sinh, Cosh, Tanh, Abs, Sign };
+/// Elementary functions: of one argument, and atan2(y, x) (v2) of two.
+enum class Function : std::uint8_t { Sin, Cos, Tan, Exp, Log, Asin, Acos, Atan, Sinh, Cosh, Tanh, Abs, Sign, Atan2 };
 
 /// Exact named constants.
 enum class Constant : std::uint8_t { Pi };
 
 /// The name of a function as written in the input syntax (`sin`, …).
 std::string_view function_name(Function f);
+/// How many arguments a function takes: 2 for atan2, 1 for the others.
+std::size_t function_arity(Function f);
 
 struct Node;
 class Pool;
@@ -145,6 +147,8 @@ Expr mul(std::initializer_list<Expr> factors);
 Expr pow(Expr base, Expr exponent);
 Expr sqrt(Expr x);
 Expr function(Function f, Expr arg);
+/// Any function from its arguments (function_arity(f) of them, else std::invalid_argument).
+Expr function(Function f, std::span<const Expr> args);
 Expr sin(Expr x);
 Expr cos(Expr x);
 Expr tan(Expr x);
@@ -160,6 +164,10 @@ Expr cosh(Expr x);
 Expr tanh(Expr x);
 Expr abs(Expr x);
 Expr sign(Expr x);
+/// (v2) atan2(y, x): the angle of the point (x, y), in (−π, π]. Exact where the angle is
+/// (a coordinate zero, |x| = |y|; atan(y/x) for a number x > 0); derivative
+/// (x·dy − y·dx)/(x² + y²); undefined (DomainError) at (0, 0).
+Expr atan2(Expr y, Expr x);
 /// The total time derivative `e'`, treating every symbol except `t` as a function of time:
 /// `x'` for a symbol, and the sum, product and chain rules for the rest (`(x^2)'` = `2*x*x'`).
 Expr time_derivative(Expr e);

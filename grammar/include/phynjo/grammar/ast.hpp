@@ -24,10 +24,11 @@ struct Name : x3::position_tagged {
 struct Expression;
 struct Unary;
 
-/// `f(arg)`.
+/// `f(arg)`, `f(arg, more…)` (atan2(y, x)).
 struct Call : x3::position_tagged {
     Name function;
     x3::forward_ast<Expression> arg;
+    std::vector<x3::forward_ast<Expression>> more; ///< the arguments after the first
 };
 
 /// `( expression )`.

@@ -6,6 +6,7 @@
 #include "phynjo/cas/expr.hpp"
 
 #include <array>
+#include <cstddef>
 #include <string>
 #include <string_view>
 
@@ -13,11 +14,13 @@ namespace phynjo::grammar {
 
 struct BuiltinFunction {
     std::string_view name;
-    cas::Expr (*apply)(cas::Expr); ///< the canonicalizing CAS factory
+    cas::Expr (*apply)(cas::Expr) = nullptr;            ///< the canonicalizing CAS factory (one argument)
+    cas::Expr (*apply2)(cas::Expr, cas::Expr) = nullptr; ///< or of two (atan2)
+    [[nodiscard]] constexpr std::size_t arity() const { return apply2 ? 2 : 1; }
 };
 
 /// The built-in functions, in the order messages list them.
-inline constexpr std::array<BuiltinFunction, 14> builtin_functions{{{"sin", &cas::sin},
+inline constexpr std::array<BuiltinFunction, 15> builtin_functions{{{"sin", &cas::sin},
                                                                     {"cos", &cas::cos},
                                                                     {"tan", &cas::tan},
                                                                     {"exp", &cas::exp},
@@ -26,6 +29,7 @@ inline constexpr std::array<BuiltinFunction, 14> builtin_functions{{{"sin", &cas
                                                                     {"asin", &cas::asin},
                                                                     {"acos", &cas::acos},
                                                                     {"atan", &cas::atan},
+                                                                    {"atan2", nullptr, &cas::atan2},
                                                                     {"sinh", &cas::sinh},
                                                                     {"cosh", &cas::cosh},
                                                                     {"tanh", &cas::tanh},
