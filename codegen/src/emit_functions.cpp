@@ -200,6 +200,15 @@ std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const N
           << "::accelerations: non-finite result at t = \" + std::to_string(t));\n"
           << "}\n\n";
     }
+    // events and shapes (contract v2): declared for every model; none yet (the front end
+    // rejects `event` and `shape` statements), so the arrays are empty and only sizes are checked
+    s << "void event_guards(const Parameters& P, double t, std::span<const double> q, std::span<const double> qdot,\n"
+      << "    std::span<double> g) {\n"
+      << sizes("event_guards", {{"q", n}, {"qdot", n}, {"g", 0}}) << "    (void)P;\n    (void)t;\n}\n\n"
+      << "void shape_positions(const Parameters& P, double t, std::span<const double> q, std::span<double> X) {\n"
+      << sizes("shape_positions", {{"q", n}, {"X", 0}}) << "    (void)P;\n    (void)t;\n}\n\n"
+      << "void sphere_jacobians(const Parameters& P, double t, std::span<const double> q, std::span<double> J) {\n"
+      << sizes("sphere_jacobians", {{"q", n}, {"J", 0}}) << "    (void)P;\n    (void)t;\n}\n\n";
     // energy
     {
         const std::string b = body(names, {eom.energy}, res, uses_t, uses_p);

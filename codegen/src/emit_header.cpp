@@ -30,7 +30,15 @@ std::string emit_header(const Model& m, bool mass_depends_on_velocities) {
         for (const auto& p : m.parameters)
             if (p.input) h << (k++ ? ", " : "") << '"' << p.name << '"';
     }
-    h << "};\n\n/// The parameters, with the defaults of the model file. A parameter defined from others\n"
+    h << "};\n/// (v2) Number of events (lag-format.md, *Events*). This phynjo-lagc rejects `event`\n"
+      << "/// statements (not implemented yet): always 0.\n"
+      << "inline constexpr std::size_t n_events = 0;\n"
+      << "inline constexpr std::array<std::string_view, n_events> event_names{};\n"
+      << "/// (v2) Number of shapes (lag-format.md, *Shapes*). This phynjo-lagc rejects `shape`\n"
+      << "/// statements (not implemented yet): always 0.\n"
+      << "inline constexpr std::size_t n_shapes = 0;\n"
+      << "inline constexpr std::array<std::string_view, n_shapes> shape_names{};\n";
+    h << "\n/// The parameters, with the defaults of the model file. A parameter defined from others\n"
       << "/// (phynjo::runtime::Derived) follows them until it is assigned a value.\nstruct Parameters {\n";
     for (const auto& p : m.parameters) {
         if (p.derived())
@@ -104,7 +112,14 @@ std::string emit_header(const Model& m, bool mass_depends_on_velocities) {
       << "/// generalized forces F = dL/dq + Q - dR/dq', and their Jacobians dp = d(p)/d(q, q') and\n"
       << "/// dF = d(F)/d(q, q') (dof x 2*dof each, row-major; the right half of dp is M).\n"
       << "void canonical_jacobian(const Parameters& P, double t, std::span<const double> q, std::span<const double> qdot,\n"
-      << "                        std::span<double> p, std::span<double> F, std::span<double> dp, std::span<double> dF);\n\n"
+      << "                        std::span<double> p, std::span<double> F, std::span<double> dp, std::span<double> dF);\n"
+      << "/// (v2) The event guards g = A - B, length n_events.\n"
+      << "void event_guards(const Parameters& P, double t, std::span<const double> q, std::span<const double> qdot,\n"
+      << "                  std::span<double> g);\n"
+      << "/// (v2) Shapes, file order: centres of spheres (3 each) and segment end points (6 each).\n"
+      << "void shape_positions(const Parameters& P, double t, std::span<const double> q, std::span<double> X);\n"
+      << "/// (v2) For each sphere, d(X, Y, Z)/dq: 3 x dof, row-major, spheres in file order.\n"
+      << "void sphere_jacobians(const Parameters& P, double t, std::span<const double> q, std::span<double> J);\n\n"
       << "/// The model for the runtime's integrators (lagrangian_rk4, lagrangian_midpoint,\n"
       << "/// DormandPrince45): a LagrangianSystem bound to these parameters.\n"
       << "phynjo::runtime::LagrangianSystem system(const Parameters& P = {});\n"

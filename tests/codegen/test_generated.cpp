@@ -312,3 +312,21 @@ TEST_CASE("generated code with every v2 function: accelerations against the hand
         CHECK(a[1] == Approx(ay).epsilon(1e-13).margin(1e-14));
     }
 }
+
+// Bugs caught: a model without the declarations contract v2 makes for every model — events
+// and shapes (generated-api.md: "declared for every model …, then the counts are 0 and the
+// functions still exist"; a user's code naming them would not compile) —, or their size
+// checks missing (a caller's wrong span accepted silently).
+TEST_CASE("contract v2: every model declares events and shapes (none yet), sizes checked", "[codegen][generated]") {
+    static_assert(pendulum::n_events == 0 && pendulum::event_names.empty());
+    static_assert(double_pendulum::n_shapes == 0 && double_pendulum::shape_names.empty());
+    const double_pendulum::Parameters P;
+    std::vector<double> q(double_pendulum::dof, 0.1), v(double_pendulum::dof, 0.2), none, one(1);
+    CHECK_NOTHROW(double_pendulum::event_guards(P, 0, q, v, none));
+    CHECK_NOTHROW(double_pendulum::shape_positions(P, 0, q, none));
+    CHECK_NOTHROW(double_pendulum::sphere_jacobians(P, 0, q, none));
+    CHECK_THROWS_AS(double_pendulum::event_guards(P, 0, q, v, one), std::invalid_argument);
+    CHECK_THROWS_AS(double_pendulum::event_guards(P, 0, one, v, none), std::invalid_argument);
+    CHECK_THROWS_AS(double_pendulum::shape_positions(P, 0, q, one), std::invalid_argument);
+    CHECK_THROWS_AS(double_pendulum::sphere_jacobians(P, 0, one, none), std::invalid_argument);
+}
