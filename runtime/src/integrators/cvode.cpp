@@ -52,16 +52,22 @@ struct Cvode::Impl {
         return 0;
     }
 
+    /// The exact ∂y'/∂y at (t, y) into J (row-major); false when the model threw (kept in `error`).
+    bool evaluate_jacobian(double t, N_Vector yv) {
+        const double* at = N_VGetArrayPointer(yv);
+        try {
+            sys.rhs_jacobian(t, std::span<const double>(at, n), std::span<const double>(at + n, n), J);
+        } catch (...) {
+            error = std::current_exception();
+            return false;
+        }
+        return true;
+    }
+
     /// The exact ∂y'/∂y into CVODE's dense (column-major) matrix.
     static int jacobian(sunrealtype t, N_Vector yv, N_Vector, SUNMatrix Jm, void* data, N_Vector, N_Vector, N_Vector) {
         auto& k = *static_cast<Impl*>(data);
-        const double* y = N_VGetArrayPointer(yv);
-        try {
-            k.sys.rhs_jacobian(t, std::span<const double>(y, k.n), std::span<const double>(y + k.n, k.n), k.J);
-        } catch (...) {
-            k.error = std::current_exception();
-            return -1;
-        }
+        if (!k.evaluate_jacobian(t, yv)) return -1;
         for (std::size_t i = 0; i < k.N; ++i)
             for (std::size_t j = 0; j < k.N; ++j)
                 SM_ELEMENT_D(Jm, static_cast<sunindextype>(i), static_cast<sunindextype>(j)) = k.J[i * k.N + j];
@@ -75,13 +81,7 @@ struct Cvode::Impl {
         auto& k = *static_cast<Impl*>(data);
         *jcur = SUNFALSE;
         if (!jok) {
-            const double* y = N_VGetArrayPointer(yv);
-            try {
-                k.sys.rhs_jacobian(t, std::span<const double>(y, k.n), std::span<const double>(y + k.n, k.n), k.J);
-            } catch (...) {
-                k.error = std::current_exception();
-                return -1;
-            }
+            if (!k.evaluate_jacobian(t, yv)) return -1;
             *jcur = SUNTRUE;
         }
         k.newton->form(k.J.data(), gamma);

@@ -18,6 +18,16 @@ void lin2(long n, double c, const double* x, const double* y, double* z) {
     for (long i = 0; i < n; ++i) z[i] = c * x[i] - y[i];
 }
 
+/// z += c·x, with SUNDIALS' Vaxpy cases (c = ±1: no multiplication).
+void axpy(long n, double c, const double* x, double* z) {
+    if (c == 1.0)
+        for (long i = 0; i < n; ++i) z[i] += x[i];
+    else if (c == -1.0)
+        for (long i = 0; i < n; ++i) z[i] -= x[i];
+    else
+        for (long i = 0; i < n; ++i) z[i] += c * x[i];
+}
+
 } // namespace
 
 void linear_sum(double a, N_Vector xv, double b, N_Vector yv, N_Vector zv) {
@@ -26,24 +36,8 @@ void linear_sum(double a, N_Vector xv, double b, N_Vector yv, N_Vector zv) {
     const double* y = NV_DATA_S(yv);
     double* z = NV_DATA_S(zv);
     // the cases of N_VLinearSum_Serial, in its order
-    if (b == 1.0 && zv == yv) { // y += a·x
-        if (a == 1.0)
-            for (long i = 0; i < n; ++i) z[i] += x[i];
-        else if (a == -1.0)
-            for (long i = 0; i < n; ++i) z[i] -= x[i];
-        else
-            for (long i = 0; i < n; ++i) z[i] += a * x[i];
-        return;
-    }
-    if (a == 1.0 && zv == xv) { // x += b·y
-        if (b == 1.0)
-            for (long i = 0; i < n; ++i) z[i] += y[i];
-        else if (b == -1.0)
-            for (long i = 0; i < n; ++i) z[i] -= y[i];
-        else
-            for (long i = 0; i < n; ++i) z[i] += b * y[i];
-        return;
-    }
+    if (b == 1.0 && zv == yv) return axpy(n, a, x, z); // y += a·x
+    if (a == 1.0 && zv == xv) return axpy(n, b, y, z); // x += b·y
     if (a == 1.0 && b == 1.0) {
         for (long i = 0; i < n; ++i) z[i] = x[i] + y[i];
         return;
