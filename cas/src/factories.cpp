@@ -1,9 +1,11 @@
 // The canonicalizing factories: every node is made here, in canonical form (see expr.hpp).
 #include "number_ops.hpp"
+#include "phynjo/cas/evaluate.hpp"
 
 #include <boost/container/small_vector.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cassert>
 #include <cstring>
 #include <stdexcept>
@@ -548,10 +550,31 @@ Expr odd(Function f, Expr x, Expr (*self)(Expr)) {
 }
 } // namespace
 
+namespace {
+/// The exact values of the inverse functions at the sines and tangents of the multiples of
+/// π/6 and π/4: asin(x) = c·π for x = 1/2, √2/2, √3/2, 1 (c = 1/6, 1/4, 1/3, 1/2);
+/// atan(x) = c·π for x = √3/3, 1, √3 (c = 1/6, 1/4, 1/3). The arguments are matched as
+/// canonical expressions (one pointer compare each); the value c, or a zero c when none.
+mpq_class asin_exact(Expr x) {
+    const Expr half = rational(1, 2);
+    if (x == half) return {1, 6};
+    if (x == mul({half, sqrt(make_int(2))})) return {1, 4};
+    if (x == mul({half, sqrt(make_int(3))})) return {1, 3};
+    if (x.is_one()) return {1, 2};
+    return 0;
+}
+mpq_class atan_exact(Expr x) {
+    if (x == mul({rational(1, 3), sqrt(make_int(3))})) return {1, 6};
+    if (x.is_one()) return {1, 4};
+    if (x == sqrt(make_int(3))) return {1, 3};
+    return 0;
+}
+} // namespace
+
 Expr asin(Expr x) {
     if (x.is_zero()) return x;
     if (x.kind() == Kind::Number && abs(x.value()) > 1) throw DomainError("asin of a number outside [-1, 1] is undefined");
-    if (x.is_one()) return mul({rational(1, 2), pi()});
+    if (const mpq_class c = asin_exact(x); c != 0) return mul({number(c), pi()});
     return odd(Function::Asin, x, &asin);
 }
 
@@ -559,12 +582,16 @@ Expr acos(Expr x) {
     if (x.is_one()) return make_int(0);
     if (x.kind() == Kind::Number && abs(x.value()) > 1) throw DomainError("acos of a number outside [-1, 1] is undefined");
     if (x.is_zero()) return mul({rational(1, 2), pi()});
+    // acos = π/2 − asin at the exact points; acos(−u) = π − acos(u)
+    if (const mpq_class c = asin_exact(x); c != 0) return mul({number(mpq_class(1, 2) - c), pi()});
+    if (negative_form(x))
+        if (const mpq_class c = asin_exact(mul({make_int(-1), x})); c != 0) return mul({number(mpq_class(1, 2) + c), pi()});
     return function_node(Function::Acos, x);
 }
 
 Expr atan(Expr x) {
     if (x.is_zero()) return x;
-    if (x.is_one()) return mul({rational(1, 4), pi()});
+    if (const mpq_class c = atan_exact(x); c != 0) return mul({number(c), pi()});
     return odd(Function::Atan, x, &atan);
 }
 
@@ -603,14 +630,31 @@ Expr sign(Expr x) {
     return function_node(Function::Sign, x);
 }
 
+namespace {
+/// The sign of a constant (no symbol, no t: atom_mask 0): exact for a number, from its
+/// double value otherwise when that is clearly away from 0; 2 when unknown.
+int constant_sign(Expr c) {
+    if (c.kind() == Kind::Number) return detail::num_sign(c);
+    if (c->atom_mask != 0) return 2;
+    double v = 0;
+    try {
+        v = evaluate(c, Bindings<double>{});
+    } catch (const Error&) {
+        return 2;
+    }
+    if (!std::isfinite(v) || std::fabs(v) < 1e-12) return 2;
+    return v > 0 ? 1 : -1;
+}
+} // namespace
+
 Expr atan2(Expr y, Expr x) {
-    const bool yn = y.kind() == Kind::Number, xn = x.kind() == Kind::Number;
-    const int sy = yn ? detail::num_sign(y) : 2, sx = xn ? detail::num_sign(x) : 2;
+    const int sy = constant_sign(y), sx = constant_sign(x);
+    const bool yn = sy != 2, xn = sx != 2;
     if (sy == 0 && sx == 0) throw DomainError("atan2(0, 0) is undefined");
-    if (sy == 0) return sx > 0 ? make_int(0) : pi(); // on the x axis (either sign of x)
-    if (sx == 0) return sy > 0 ? mul({rational(1, 2), pi()}) : mul({rational(-1, 2), pi()});
+    if (sy == 0 && xn) return sx > 0 ? make_int(0) : pi(); // on the x axis, either side
+    if (sx == 0 && yn) return sy > 0 ? mul({rational(1, 2), pi()}) : mul({rational(-1, 2), pi()});
     if (sx == 1) return atan(mul({y, pow(x, make_int(-1))})); // x > 0: the principal branch
-    if (yn && xn) { // x < 0: atan(y/x) ± π, by the sign of y
+    if (yn && xn) { // x < 0, y a constant: atan(y/x) ± π, by the sign of y
         return add({atan(mul({y, pow(x, make_int(-1))})), sy > 0 ? pi() : mul({make_int(-1), pi()})});
     }
     return function_node2(Function::Atan2, y, x);

@@ -86,7 +86,8 @@ TEST_CASE("contract v2 functions: derivatives, symmetries, values", "[cas][diff]
 
 // Bugs caught: atan2's partial derivatives swapped or of the wrong sign, its arguments
 // swapped in the evaluation, a wrong quadrant in the exact values (atan(y/x) for x < 0),
-// atan2(0, 0) given a value.
+// atan2(0, 0) given a value, atan2(0, x) or atan2(y, 0) given a value while the sign of
+// the other argument is unknown.
 TEST_CASE("atan2(y, x): exact values in every quadrant, derivatives, evaluation", "[cas][diff]") {
     CHECK(parse("atan2(1, 1)") == parse("pi/4"));
     CHECK(parse("atan2(1, -1)") == parse("3*pi/4"));
@@ -99,7 +100,16 @@ TEST_CASE("atan2(y, x): exact values in every quadrant, derivatives, evaluation"
     CHECK(parse("atan2(y, 2)") == parse("atan(y/2)")); // x > 0: the principal branch
     CHECK(parse("atan2(1, -2)") == parse("pi - atan(1/2)"));
     CHECK_THROWS_AS(atan2(Expr(0), Expr(0)), DomainError);
+    // constants that are not numbers: their signs decide the quadrant
+    CHECK(parse("atan2(sqrt(3), 1)") == parse("pi/3"));
+    CHECK(parse("atan2(1, -sqrt(3))") == parse("5*pi/6"));
+    CHECK(parse("atan2(-sqrt(2), -sqrt(2))") == parse("-3*pi/4"));
+    CHECK(parse("atan2(-1, pi)") == parse("-atan(1/pi)"));
     const Expr x = symbol("x"), y = symbol("y");
+    // a zero coordinate with the other's sign unknown: no quadrant, no value
+    CHECK(atan2(Expr(0), x).kind() == Kind::Function);
+    CHECK(atan2(y, Expr(0)).kind() == Kind::Function);
+    CHECK(atan2(Expr(2), x).kind() == Kind::Function);
     const Expr e = atan2(y, x);
     CHECK(e.kind() == Kind::Function);
     CHECK(diff(e, y) == parse("x/(x^2 + y^2)"));
@@ -118,6 +128,44 @@ TEST_CASE("atan2(y, x): exact values in every quadrant, derivatives, evaluation"
         CHECK(static_cast<double>(evaluate_extended(dgx, {{x, x0}, {y, y0}})) == Approx(static_cast<double>(fx)).margin(1e-9));
         CHECK(static_cast<double>(evaluate_extended(dgy, {{x, x0}, {y, y0}})) == Approx(static_cast<double>(fy)).margin(1e-9));
     }
+}
+
+// Bugs caught: an entry of the exact-value tables wrong (acos(1/2) as π/6, the π − acos
+// rule for negative arguments dropped, atan(√3) as π/6), a value given at a point that has
+// none (asin(1/3)), the tables disagreeing with <cmath>.
+TEST_CASE("inverse functions: exact values at the sines and tangents of multiples of pi/6 and pi/4", "[cas][diff]") {
+    const double r2 = std::sqrt(2.0), r3 = std::sqrt(3.0);
+    struct Case {
+        const char* in;
+        const char* value;
+        double cmath; // the same function from <cmath>
+    };
+    const Case exact[] = {{"acos(1/2)", "pi/3", std::acos(0.5)},
+                          {"acos(-1/2)", "2*pi/3", std::acos(-0.5)},
+                          {"acos(sqrt(2)/2)", "pi/4", std::acos(r2 / 2)},
+                          {"acos(-sqrt(2)/2)", "3*pi/4", std::acos(-r2 / 2)},
+                          {"acos(sqrt(3)/2)", "pi/6", std::acos(r3 / 2)},
+                          {"acos(-sqrt(3)/2)", "5*pi/6", std::acos(-r3 / 2)},
+                          {"acos(-1)", "pi", std::acos(-1.0)},
+                          {"asin(1/2)", "pi/6", std::asin(0.5)},
+                          {"asin(-sqrt(2)/2)", "-pi/4", std::asin(-r2 / 2)},
+                          {"asin(1/sqrt(2))", "pi/4", std::asin(1 / r2)},
+                          {"asin(sqrt(3)/2)", "pi/3", std::asin(r3 / 2)},
+                          {"asin(-1)", "-pi/2", std::asin(-1.0)},
+                          {"atan(sqrt(3))", "pi/3", std::atan(r3)},
+                          {"atan(1/sqrt(3))", "pi/6", std::atan(1 / r3)},
+                          {"atan(-sqrt(3))", "-pi/3", std::atan(-r3)},
+                          {"atan(-1)", "-pi/4", std::atan(-1.0)}};
+    for (const Case& c : exact) {
+        INFO(c.in);
+        const Expr e = parse(c.in);
+        CHECK(e == parse(c.value));
+        CHECK(evaluate(e, {}) == Approx(c.cmath).epsilon(1e-15));
+    }
+    // no exact value: the function stays
+    CHECK(parse("asin(1/3)").kind() == Kind::Function);
+    CHECK(parse("acos(1/3)").kind() == Kind::Function);
+    CHECK(parse("atan(2)").kind() == Kind::Function);
 }
 
 TEST_CASE("the product rule works on the flattened product", "[cas][diff]") {
