@@ -14,14 +14,14 @@ using detail::as_span;
 
 namespace {
 
-/// The derivative of a compound node, given `rec` for the derivative of its children:
-/// sum rule, flattened product rule, power rule, chain rule.
 /// d atan2(y, x) = (x·dy − y·dx)/(x² + y²).
 Expr atan2_derivative(Expr y, Expr x, Expr dy, Expr dx) {
     if (dy.is_zero() && dx.is_zero()) return dy;
     return mul({add({mul({x, dy}), mul({Expr(-1), y, dx})}), pow(add({pow(x, Expr(2)), pow(y, Expr(2))}), Expr(-1))});
 }
 
+/// The derivative of a compound node, given `rec` for the derivative of its children:
+/// sum rule, flattened product rule, power rule, chain rule.
 template <typename Rec>
 Expr derive_compound(Expr e, Rec&& rec) {
     switch (e.kind()) {

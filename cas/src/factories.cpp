@@ -441,21 +441,13 @@ Expr sqrt(Expr x) { return pow(x, rational(1, 2)); }
 
 namespace {
 
-Expr function_node(Function f, Expr x) {
-    const Expr args[1] = {x};
+Expr function_node(Function f, std::span<const Expr> args) {
     NodeKey k{Kind::Function};
     k.sub = static_cast<std::uint8_t>(f);
     k.args = args;
     return Expr(pool().intern(k));
 }
-
-Expr function_node2(Function f, Expr a, Expr b) {
-    const Expr args[2] = {a, b};
-    NodeKey k{Kind::Function};
-    k.sub = static_cast<std::uint8_t>(f);
-    k.args = args;
-    return Expr(pool().intern(k));
-}
+Expr function_node(Function f, Expr x) { return function_node(f, std::span<const Expr>(&x, 1)); }
 
 /// If x = c·pi for a rational c, c; otherwise null.
 Expr pi_multiple(Expr x) {
@@ -653,11 +645,11 @@ Expr atan2(Expr y, Expr x) {
     if (sy == 0 && sx == 0) throw DomainError("atan2(0, 0) is undefined");
     if (sy == 0 && xn) return sx > 0 ? make_int(0) : pi(); // on the x axis, either side
     if (sx == 0 && yn) return sy > 0 ? mul({rational(1, 2), pi()}) : mul({rational(-1, 2), pi()});
-    if (sx == 1) return atan(mul({y, pow(x, make_int(-1))})); // x > 0: the principal branch
-    if (yn && xn) { // x < 0, y a constant: atan(y/x) ± π, by the sign of y
-        return add({atan(mul({y, pow(x, make_int(-1))})), sy > 0 ? pi() : mul({make_int(-1), pi()})});
-    }
-    return function_node2(Function::Atan2, y, x);
+    auto principal = [&] { return atan(mul({y, pow(x, make_int(-1))})); };
+    if (sx == 1) return principal(); // x > 0: the principal branch
+    if (yn && xn) return add({principal(), sy > 0 ? pi() : mul({make_int(-1), pi()})}); // x < 0: ± π by y's sign
+    const Expr args[2] = {y, x};
+    return function_node(Function::Atan2, args);
 }
 
 Expr function(Function f, std::span<const Expr> args) {

@@ -9,9 +9,9 @@
 namespace phynjo::codegen::detail {
 
 bool is_diagonal(const std::vector<Expr>& mass_matrix, std::size_t n) {
-    for (std::size_t i = 0; i < n; ++i)
-        for (std::size_t j = 0; j < n; ++j)
-            if (i != j && !mass_matrix[i * n + j].is_zero()) return false;
+    for (std::size_t i = 0; i < n; ++i) // M is symmetric: the upper triangle decides
+        for (std::size_t j = i + 1; j < n; ++j)
+            if (!mass_matrix[i * n + j].is_zero()) return false;
     return true;
 }
 
@@ -37,6 +37,14 @@ std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const N
         for (const auto& [name, len] : arrays)
             c += "    check_size(" + std::string(name) + ", " + std::to_string(len) + ", \"" + fn + "\", \"" + name + "\");\n";
         return c;
+    };
+    // A function with nothing to compute (no constraints, no events, no shapes): its sizes
+    // checked, its output empty. `with_qdot`: it takes q' too.
+    auto empty = [&](const char* fn, bool with_qdot, const char* out) {
+        s << "void " << fn << "(const Parameters& P, double t, std::span<const double> q, "
+          << (with_qdot ? "std::span<const double> qdot,\n    " : "") << "std::span<double> " << out << ") {\n"
+          << (with_qdot ? sizes(fn, {{"q", n}, {"qdot", n}, {out, 0}}) : sizes(fn, {{"q", n}, {out, 0}}))
+          << "    (void)P;\n    (void)t;\n}\n\n";
     };
     // upper triangle of M
     std::vector<Expr> upper;
@@ -150,11 +158,8 @@ std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const N
           << "                                   std::span<double> lambda) {\n"
           << sizes("accelerations_and_multipliers", {{"lambda", 0}}) << "    accelerations(P, t, q, qdot, qddot);\n}\n\n";
         for (const char* fn : {"constraint_residuals", "constraint_velocity_residuals", "constraint_scales", "constraint_gamma"})
-            s << "void " << fn << "(const Parameters& P, double t, std::span<const double> q, std::span<const double> qdot,\n"
-              << "    std::span<double> out) {\n"
-              << sizes(fn, {{"q", n}, {"qdot", n}, {"out", 0}}) << "    (void)P;\n    (void)t;\n}\n\n";
-        s << "void constraint_matrix(const Parameters& P, double t, std::span<const double> q, std::span<double> G) {\n"
-          << sizes("constraint_matrix", {{"q", n}, {"G", 0}}) << "    (void)P;\n    (void)t;\n}\n\n";
+            empty(fn, true, "out");
+        empty("constraint_matrix", false, "G");
     }
     // accelerations: M and f from one CSE pass, then the solve
     if (mc == 0) {
@@ -202,13 +207,9 @@ std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const N
     }
     // events and shapes (contract v2): declared for every model; none yet (the front end
     // rejects `event` and `shape` statements), so the arrays are empty and only sizes are checked
-    s << "void event_guards(const Parameters& P, double t, std::span<const double> q, std::span<const double> qdot,\n"
-      << "    std::span<double> g) {\n"
-      << sizes("event_guards", {{"q", n}, {"qdot", n}, {"g", 0}}) << "    (void)P;\n    (void)t;\n}\n\n"
-      << "void shape_positions(const Parameters& P, double t, std::span<const double> q, std::span<double> X) {\n"
-      << sizes("shape_positions", {{"q", n}, {"X", 0}}) << "    (void)P;\n    (void)t;\n}\n\n"
-      << "void sphere_jacobians(const Parameters& P, double t, std::span<const double> q, std::span<double> J) {\n"
-      << sizes("sphere_jacobians", {{"q", n}, {"J", 0}}) << "    (void)P;\n    (void)t;\n}\n\n";
+    empty("event_guards", true, "g");
+    empty("shape_positions", false, "X");
+    empty("sphere_jacobians", false, "J");
     // energy
     {
         const std::string b = body(names, {eom.energy}, res, uses_t, uses_p);
