@@ -205,9 +205,50 @@ std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const N
           << "::accelerations: non-finite result at t = \" + std::to_string(t));\n"
           << "}\n\n";
     }
-    // events and shapes (contract v2): declared for every model; none yet (the front end
-    // rejects `event` and `shape` statements), so the arrays are empty and only sizes are checked
-    empty("event_guards", true, "g");
+    // events (contract v2): the guards from one CSE pass; apply_event one case per event,
+    // every right side read from the state before any is stored
+    const std::size_t ne = m.events.size();
+    if (ne == 0) empty("event_guards", true, "g");
+    else {
+        std::vector<Expr> guards;
+        for (const Event& e : m.events) guards.push_back(e.guard);
+        guards = cas::horner(guards);
+        const std::string b = body(names, guards, res, uses_t, uses_p);
+        s << "void event_guards(const Parameters& P, double t, std::span<const double> q, std::span<const double> qdot,\n"
+          << "    std::span<double> g) {\n"
+          << sizes("event_guards", {{"q", n}, {"qdot", n}, {"g", ne}}) << unused(uses_t, uses_p) << b;
+        for (std::size_t k = 0; k < ne; ++k) s << "    g[" << k << "] = " << res[k] << ";\n";
+        s << "}\n\n";
+    }
+    s << "void apply_event(const Parameters& P, std::size_t k, double t, std::span<double> q, std::span<double> qdot) {\n"
+      << sizes("apply_event", {{"q", n}, {"qdot", n}}) << "    (void)P;\n    (void)t;\n    switch (k) {\n";
+    for (std::size_t k = 0; k < ne; ++k) {
+        const Event& e = m.events[k];
+        s << "    case " << k << ": { // " << e.name << (e.stop ? ": stop" : "") << "\n";
+        if (!e.resets.empty()) {
+            std::vector<Expr> values;
+            for (const EventReset& r : e.resets) values.push_back(r.value);
+            values = cas::horner(values);
+            std::string b = body(names, values, res, uses_t, uses_p);
+            // the body's lines, indented into the case
+            std::string indented;
+            for (std::size_t at = 0; at < b.size();) {
+                const std::size_t end = b.find('\n', at);
+                indented += "    " + b.substr(at, end - at + 1);
+                at = end + 1;
+            }
+            s << indented;
+            for (std::size_t r = 0; r < e.resets.size(); ++r)
+                s << "        const double reset" << r << " = " << res[r] << ";\n";
+            for (std::size_t r = 0; r < e.resets.size(); ++r)
+                s << "        " << (e.resets[r].velocity ? "qdot[" : "q[") << e.resets[r].coordinate << "] = reset" << r
+                  << "; // " << m.coordinates[e.resets[r].coordinate].name << (e.resets[r].velocity ? "'" : "") << "\n";
+        }
+        s << "        return;\n    }\n";
+    }
+    s << "    default: break;\n    }\n"
+      << "    throw std::out_of_range(\"" << m.name << "::apply_event: event \" + std::to_string(k) + \" (the model has "
+      << ne << ")\");\n}\n\n";
     empty("shape_positions", false, "X");
     empty("sphere_jacobians", false, "J");
     // energy

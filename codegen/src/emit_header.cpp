@@ -30,10 +30,20 @@ std::string emit_header(const Model& m, bool mass_depends_on_velocities) {
         for (const auto& p : m.parameters)
             if (p.input) h << (k++ ? ", " : "") << '"' << p.name << '"';
     }
-    h << "};\n/// (v2) Number of events (lag-format.md, *Events*). This phynjo-lagc rejects `event`\n"
-      << "/// statements (not implemented yet): always 0.\n"
-      << "inline constexpr std::size_t n_events = 0;\n"
-      << "inline constexpr std::array<std::string_view, n_events> event_names{};\n"
+    const std::size_t ne = m.events.size();
+    h << "};\n/// (v2) Number of events (lag-format.md, *Events*).\n"
+      << "inline constexpr std::size_t n_events = " << ne << ";\n"
+      << "/// The events, in file order (the entries of event_guards).\n"
+      << "inline constexpr std::array<std::string_view, n_events> event_names{";
+    for (std::size_t k = 0; k < ne; ++k) h << (k ? ", " : "") << '"' << m.events[k].name << '"';
+    h << "};\n/// (phynjo extension) Per event: -1 for `A < B` (fires when g = A - B falls through 0),\n"
+      << "/// +1 for `A > B` (fires when g rises through 0).\n"
+      << "inline constexpr std::array<int, n_events> event_directions{";
+    for (std::size_t k = 0; k < ne; ++k) h << (k ? ", " : "") << m.events[k].direction;
+    h << "};\n/// (phynjo extension) Per event: true when its action is `stop` (the run ends at it).\n"
+      << "inline constexpr std::array<bool, n_events> event_stops{";
+    for (std::size_t k = 0; k < ne; ++k) h << (k ? ", " : "") << (m.events[k].stop ? "true" : "false");
+    h << "};\n"
       << "/// (v2) Number of shapes (lag-format.md, *Shapes*). This phynjo-lagc rejects `shape`\n"
       << "/// statements (not implemented yet): always 0.\n"
       << "inline constexpr std::size_t n_shapes = 0;\n"
@@ -116,6 +126,10 @@ std::string emit_header(const Model& m, bool mass_depends_on_velocities) {
       << "/// (v2) The event guards g = A - B, length n_events.\n"
       << "void event_guards(const Parameters& P, double t, std::span<const double> q, std::span<const double> qdot,\n"
       << "                  std::span<double> g);\n"
+      << "/// (phynjo extension) The resets of event k (< n_events) at time t: every right side\n"
+      << "/// evaluated on (q, qdot) as given — the state just before the event — then stored into\n"
+      << "/// them. A `stop` event resets nothing. std::out_of_range for k >= n_events.\n"
+      << "void apply_event(const Parameters& P, std::size_t k, double t, std::span<double> q, std::span<double> qdot);\n"
       << "/// (v2) Shapes, file order: centres of spheres (3 each) and segment end points (6 each).\n"
       << "void shape_positions(const Parameters& P, double t, std::span<const double> q, std::span<double> X);\n"
       << "/// (v2) For each sphere, d(X, Y, Z)/dq: 3 x dof, row-major, spheres in file order.\n"

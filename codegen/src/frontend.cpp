@@ -311,6 +311,79 @@ private:
         model_.constraints.push_back({s.name.text, phi, !has_velocity, at});
     }
 
+    void visit(const grammar::ast::EventStmt& s) {
+        const SourceSpan at = span(s.name);
+        const std::string ev = "event '" + s.name.text + "'";
+        for (const Event& e : model_.events)
+            if (e.name == s.name.text) {
+                error(at, "a second event named '" + s.name.text + "'");
+                note(e.where, "the first event '" + s.name.text + "' is here");
+                return;
+            }
+        auto a = expression(s.lhs);
+        auto b = expression(s.rhs);
+        Event event{s.name.text, Expr{}, s.relation == '>' ? 1 : -1, {}, false, at};
+        bool ok = a && b;
+        if (ok) {
+            event.guard = *a - *b;
+            // a guard with no t, coordinate, velocity or input never changes during a run
+            bool varies = false;
+            for (Expr v : cas::free_variables(event.guard)) {
+                const Parameter* p = v.kind() == cas::Kind::Symbol ? parameter(v) : nullptr;
+                if (!p || p->input) varies = true;
+            }
+            if (!varies) {
+                error(span(s.lhs), "the guard of " + ev + " is constant: " + cas::to_string(event.guard) +
+                                       " depends on no coordinate, velocity, input or t, so it never crosses zero");
+                ok = false;
+            }
+        }
+        const grammar::ast::EventAction* stop_at = nullptr;
+        for (const auto& act : s.actions) {
+            if (!act.value) {
+                if (act.name.text == "stop" && act.primes.empty()) {
+                    if (event.stop) {
+                        error(span(act), ev + " says 'stop' twice");
+                        ok = false;
+                    }
+                    event.stop = true;
+                    stop_at = &act;
+                } else {
+                    error(span(act), "expected '=' and a value after '" + act.name.text + act.primes +
+                                         "' (an action is Q = EXPR, Q' = EXPR or stop)");
+                    ok = false;
+                }
+                continue;
+            }
+            auto i = coordinate_index(act.name, (ev + " resets").c_str());
+            auto v = expression(*act.value);
+            if (!i || !v) {
+                ok = false;
+                continue;
+            }
+            if (act.primes.size() > 1) {
+                error(span(act.name), ev + " resets " + act.name.text + act.primes +
+                                          ": an action resets a coordinate (Q = …) or its velocity (Q' = …)");
+                ok = false;
+                continue;
+            }
+            const bool velocity = act.primes.size() == 1;
+            for (const EventReset& r : event.resets)
+                if (r.coordinate == *i && r.velocity == velocity) {
+                    error(span(act.name), ev + " resets " + act.name.text + act.primes + " twice");
+                    note(r.where, "the first reset of " + act.name.text + act.primes + " is here");
+                    ok = false;
+                }
+            event.resets.push_back({*i, velocity, *v, span(act.name)});
+        }
+        if (event.stop && !event.resets.empty()) {
+            error(span(*stop_at), ev + " mixes 'stop' with resets: a run that stops at the event never uses the "
+                                       "reset state (write two events, or drop the resets)");
+            ok = false;
+        }
+        if (ok) model_.events.push_back(std::move(event));
+    }
+
     void visit(const grammar::ast::LetStmt& s) {
         auto v = expression(s.value);
         if (!v) {

@@ -136,7 +136,8 @@ inline const auto power_def = postfix >> -('^' > guarded[unary]);
 inline const auto unary_def = *x3::char_('-') >> power;
 inline const auto product_op_def = x3::char_("*/") > unary;
 inline const auto product_def = unary >> *product_op;
-inline const auto sum_op_def = x3::char_("+-") > product;
+// `-` followed by `>` is the arrow of an event statement, not a minus
+inline const auto sum_op_def = (x3::char_('+') | (x3::char_('-') >> !x3::lit('>'))) > product;
 inline const auto expression_def = product >> *sum_op;
 inline const auto input_def = expression;
 

@@ -183,7 +183,7 @@ ParsedModel parse_model(std::string_view text, Positions& positions, DiagnosticS
             continuation_pending = false;
             continue;
         }
-        if (keyword == "event" || keyword == "shape") {
+        if (keyword == "shape") {
             sink.error(w0, keyword.size(),
                        "'" + keyword + "' statements are not implemented in this version of phynjo-lagc");
             model.failed_keywords.push_back(keyword);
@@ -230,7 +230,7 @@ ParsedModel parse_model(std::string_view text, Positions& positions, DiagnosticS
                     if (!after_break)
                         lexical::report_expected(text, at, r.end,
                                                  "a statement (model, coordinates, parameters, let, lagrangian, "
-                                                 "dissipation, force, initial, input or constraint)",
+                                                 "dissipation, force, initial, input, constraint or event)",
                                                  "end of line", sink,
                                                  meant.empty() ? std::string() : " (did you mean '" + std::string(meant) + "'?)");
                     if (!meant.empty()) {

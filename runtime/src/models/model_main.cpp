@@ -7,6 +7,7 @@
 #include "phynjo/runtime/integrators/lagrangian_midpoint.hpp"
 #include "phynjo/runtime/integrators/lagrangian_rattle.hpp"
 #include "phynjo/runtime/integrators/lagrangian_rk4.hpp"
+#include "phynjo/runtime/models/events.hpp"
 
 #include <algorithm>
 #include <charconv>
@@ -44,10 +45,13 @@ void help(const char* prog, const ModelCommandLine& model, const LagrangianSyste
     std::string params, coords;
     for (const auto& [name, set] : model.parameters) params += (params.empty() ? "" : ", ") + std::string(name);
     for (const auto& n : sys.coordinate_names) coords += (coords.empty() ? "" : ", ") + n;
+    std::string events;
+    for (const auto& n : sys.event_names) events += (events.empty() ? "" : ", ") + n;
     std::printf("usage: %s [--t-end T] [--dt DT] [--integrator rk4|dopri|midpoint|rattle|cvode|ida] [--every K]\n"
                 "          [--param NAME=VALUE]... [--init NAME=VALUE[,NAME'=VALUE]...]... [--output FILE]\n"
                 "          [--energy-tolerance TOL [--fail-on-drift]] [--project-initial]\n"
                 "          [--projection-tolerance TOL] [--rtol R] [--atol A]\n"
+                "          [--events FILE] [--rest-speed V] [--max-events-per-step N]\n"
                 "Simulates the model %.*s from its initial state and writes CSV: t, q..., q'..., E\n"
                 "(and, for a model with constraints, their multipliers lambda_NAME...).\n"
                 "  --t-end T              end time in s (default 10); the run ends exactly at T\n"
@@ -77,10 +81,19 @@ void help(const char* prog, const ModelCommandLine& model, const LagrangianSyste
                 "  --projection-tolerance TOL  constraints: the relative tolerance of the projections\n"
                 "                         the integrators make after each step (default 1e-12)\n"
                 "  --output FILE, -o FILE write the CSV to FILE (default: standard output)\n"
+                "  --events FILE          write the events that fired as CSV to FILE: t, event, then the\n"
+                "                         coordinates and velocities just after the event's actions\n"
+                "                         (a stop event ends the run at its crossing, with a last row\n"
+                "                         in the output); the model's events: %s\n"
+                "  --rest-speed V         the Zeno remedy: a velocity an event resets to below V becomes 0\n"
+                "                         and is held (a ball comes to rest) until a free step would\n"
+                "                         leave the event's guard on its armed side (default: off)\n"
+                "  --max-events-per-step N  more events than N in one step DT is an error (Zeno;\n"
+                "                         default 100); so are geometrically shrinking intervals\n"
                 "Exit status: 0 done, 1 the run stopped (the message says why and when), 2 usage error,\n"
                 "3 energy drift beyond the tolerance (with --fail-on-drift).\n",
                 prog, static_cast<int>(model.model_name.size()), model.model_name.data(), params.empty() ? "(none)" : params.c_str(),
-                coords.c_str());
+                coords.c_str(), events.empty() ? "(none)" : events.c_str());
 }
 
 } // namespace
@@ -90,7 +103,8 @@ int model_main(int argc, char** argv, const ModelCommandLine& model) {
     std::optional<double> energy_tolerance;
     bool fail_on_drift = false, project_initial = false;
     ProjectionOptions projection;
-    std::string integrator = "rk4", output;
+    std::string integrator = "rk4", output, events_output;
+    EventOptions event_options;
     std::optional<double> rtol, atol;
     long every = 0;
     std::vector<std::pair<std::string, double>> inits;
@@ -131,6 +145,16 @@ int model_main(int argc, char** argv, const ModelCommandLine& model) {
                 energy_tolerance = num("--energy-tolerance");
                 if (!(*energy_tolerance > 0)) throw UsageError{"--energy-tolerance must be positive"};
             } else if (a == "--fail-on-drift") fail_on_drift = true;
+            else if (a == "--events") events_output = value("--events");
+            else if (a == "--rest-speed") {
+                event_options.rest_speed = num("--rest-speed");
+                if (!(event_options.rest_speed > 0)) throw UsageError{"--rest-speed must be positive"};
+            } else if (a == "--max-events-per-step") {
+                const std::string v = value("--max-events-per-step");
+                const auto k = whole_number(v);
+                if (!k || *k <= 0) throw UsageError{"--max-events-per-step: '" + v + "' is not a positive whole number"};
+                event_options.max_events_per_step = static_cast<std::size_t>(*k);
+            }
             else if (a == "--project-initial") project_initial = true;
             else if (a == "--projection-tolerance") {
                 projection.tolerance = num("--projection-tolerance");
@@ -250,16 +274,39 @@ int model_main(int argc, char** argv, const ModelCommandLine& model) {
         std::fprintf(out, "\n");
     };
     int status = 0;
+    const bool with_events = sys.n_events > 0;
+    EventMonitor monitor(sys, event_options);
     try {
         row();
         // step k is dt long (the last one shortened to end at t_end) and ends at exactly k·dt:
         // the time is set, not accumulated
         const long total = steps + (short_step ? 1 : 0);
         auto target_of = [&](long k) { return k <= steps ? static_cast<double>(k) * dt : t_end; };
+        // step_to(target, h): one step of the integrator towards target, h long when the run
+        // step is whole, and w.time where it ended. With events, the monitor watches every
+        // such step; after an event the rest of the run step is taken from the event time.
         auto advance = [&](auto&& step_to, long k, double target) {
-            step_to(target, k <= steps ? dt : last);
-            w.time = target;
+            const double h = k <= steps ? dt : last;
+            if (!with_events) {
+                step_to(target, h);
+                w.time = target;
+            } else {
+                monitor.begin_run_step(h);
+                bool whole = true;
+                while (w.time < target - 1e-12 * dt) {
+                    monitor.begin_step(w);
+                    step_to(target, whole ? h : target - w.time);
+                    const EventStep e = monitor.end_step(w);
+                    if (e.stopped) {
+                        row();
+                        return false;
+                    }
+                    whole = whole && !e.fired;
+                }
+                w.time = target;
+            }
             if (k % every == 0 || k == total) row();
+            return true;
         };
         // a SUNDIALS solver: its own steps between the rows, its counters on stderr
         auto run_sundials = [&](auto solver_tag, const char* name) {
@@ -269,7 +316,8 @@ int model_main(int argc, char** argv, const ModelCommandLine& model) {
             if (rtol) o.rtol = *rtol;
             if (atol) o.atol = *atol;
             Solver solver(sys, o);
-            for (long k = 1; k <= total; ++k) advance([&](double target, double) { solver.advance(w, target); }, k, target_of(k));
+            for (long k = 1; k <= total; ++k)
+                if (!advance([&](double target, double) { solver.advance(w, target); w.time = target; }, k, target_of(k))) break;
             const auto st = solver.stats();
             std::fprintf(stderr, "%s: %ld steps, %ld Jacobians, %ld Newton iterations, %ld Newton failures, %ld error-test failures\n",
                          name, st.steps, st.jacobian_evaluations, st.newton_iterations, st.newton_failures, st.error_test_failures);
@@ -285,18 +333,20 @@ int model_main(int argc, char** argv, const ModelCommandLine& model) {
             if (atol) dopts.atol = *atol;
             DormandPrince45 dp(sys, dopts);
             double h = dt;
+            // one accepted step (with events: each one watched), or all of them up to target
             auto step_to = [&](double target, double) {
-                while (w.time < target - 1e-12 * dt)
-                    h = dp.step(w, std::min(dp.next_dt() > 0 ? dp.next_dt() : h, target - w.time), target);
+                do h = dp.step(w, std::min(dp.next_dt() > 0 ? dp.next_dt() : h, target - w.time), target);
+                while (!with_events && w.time < target - 1e-12 * dt);
             };
-            for (long k = 1; k <= total; ++k) advance(step_to, k, target_of(k));
+            for (long k = 1; k <= total; ++k)
+                if (!advance(step_to, k, target_of(k))) break;
         } else {
             Stepper stepper(integrator == "rk4"        ? lagrangian_rk4(sys, w.layout_ptr(), projection)
                             : integrator == "midpoint" ? lagrangian_midpoint(sys, w.layout_ptr(), projection)
                                                        : lagrangian_rattle(sys, w.layout_ptr(), projection));
             for (long k = 1; k <= total; ++k) {
                 const double target = target_of(k);
-                advance([&](double, double h) { stepper.step(w, h); }, k, target);
+                if (!advance([&](double t, double h) { stepper.step(w, h); w.time = t; }, k, target)) break;
             }
         }
     } catch (const std::exception& e) {
@@ -304,6 +354,29 @@ int model_main(int argc, char** argv, const ModelCommandLine& model) {
         status = 1;
     }
     if (out != stdout) std::fclose(out);
+    if (monitor.stopped() && !monitor.log().empty()) {
+        const EventRecord& last_event = monitor.log().back();
+        std::fprintf(stderr, "%s: the run stopped at t = %.17g: event '%s'\n", argv[0], last_event.time,
+                     sys.event_names[last_event.event].c_str());
+    }
+    if (!events_output.empty()) {
+        std::FILE* ev = std::fopen(events_output.c_str(), "w");
+        if (!ev) {
+            std::fprintf(stderr, "%s: cannot write %s\n", argv[0], events_output.c_str());
+            return 1;
+        }
+        std::fprintf(ev, "t,event");
+        for (const auto& n : sys.coordinate_names) std::fprintf(ev, ",%s", n.c_str());
+        for (const auto& n : sys.coordinate_names) std::fprintf(ev, ",%s'", n.c_str());
+        std::fprintf(ev, "\n");
+        for (const EventRecord& r : monitor.log()) {
+            std::fprintf(ev, "%.17g,%s", r.time, sys.event_names[r.event].c_str());
+            for (double x : r.q) std::fprintf(ev, ",%.17g", x);
+            for (double x : r.qdot) std::fprintf(ev, ",%.17g", x);
+            std::fprintf(ev, "\n");
+        }
+        std::fclose(ev);
+    }
     if (status == 0 && energy_tolerance) {
         const double limit = *energy_tolerance * std::max(1.0, std::fabs(e0));
         if (drift > limit) {

@@ -46,6 +46,26 @@ struct Constraint {
     SourceSpan where;       ///< the constraint's name
 };
 
+/// (v2) One reset of an event: coordinate `coordinate` (velocity when `velocity`) becomes
+/// `value`, evaluated on the state just before the event.
+struct EventReset {
+    std::size_t coordinate = 0;
+    bool velocity = false;
+    cas::Expr value; ///< every `let` substituted
+    SourceSpan where; ///< the reset's name
+};
+
+/// (v2) `event NAME: A < B -> ACTIONS` (lag-format.md, *Events*): fires when g = A − B
+/// crosses zero downwards (`<`, direction −1) or upwards (`>`, direction +1).
+struct Event {
+    std::string name;
+    cas::Expr guard; ///< A − B, every `let` substituted
+    int direction = -1;
+    std::vector<EventReset> resets; ///< file order; empty when `stop`
+    bool stop = false;
+    SourceSpan where; ///< the event's name
+};
+
 struct Model {
     std::string name; ///< C++ namespace of the generated code
     std::string source_name;
@@ -57,6 +77,7 @@ struct Model {
     std::vector<cas::Expr> initial_q, initial_qdot; ///< in terms of the parameters; 0 if absent
     SourceSpan lagrangian_where;
     std::vector<Constraint> constraints; ///< file order
+    std::vector<Event> events;           ///< file order
 
     [[nodiscard]] std::size_t n_inputs() const noexcept {
         std::size_t k = 0;

@@ -128,8 +128,24 @@ struct ConstraintStmt : x3::position_tagged {
     Expression rhs;
 };
 
+/// (v2) One action of an event: a reset `Q = EXPR` or `Q' = EXPR`, or `stop` (a name with
+/// no value; the front end decides what a name without a value means).
+struct EventAction : x3::position_tagged {
+    Name name;
+    std::string primes;
+    boost::optional<Expression> value;
+};
+/// (v2) `event NAME: A < B -> ACTIONS` (relation '<' or '>').
+struct EventStmt : x3::position_tagged {
+    Name name;
+    Expression lhs;
+    char relation = '<';
+    Expression rhs;
+    std::vector<EventAction> actions;
+};
+
 struct Statement : x3::variant<ModelStmt, CoordinatesStmt, ParametersStmt, LetStmt, LagrangianStmt, DissipationStmt,
-                               ForceStmt, InitialStmt, InputStmt, ConstraintStmt> {
+                               ForceStmt, InitialStmt, InputStmt, ConstraintStmt, EventStmt> {
     using base_type::base_type;
     using base_type::operator=;
 };

@@ -98,6 +98,13 @@ public:
     using Error::Error;
 };
 
+/// Events accumulate (Zeno behaviour: a ball with restitution e < 1 bounces infinitely often
+/// in finite time). The message names the event and the time (models/events.hpp).
+class ZenoError : public Error {
+public:
+    using Error::Error;
+};
+
 /// An implicit step did not converge.
 class ConvergenceError : public Error {
 public:

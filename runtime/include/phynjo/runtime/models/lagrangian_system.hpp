@@ -85,6 +85,20 @@ struct LagrangianSystem {
                        std::span<double> lambda)>
         accelerations_and_multipliers;
 
+    // (v2) Events (lag-format.md, *Events*), file order; none when n_events = 0. Driven by
+    // EventMonitor (models/events.hpp).
+    std::size_t n_events = 0;
+    std::vector<std::string> event_names;
+    /// Per event: −1 when it fires as g falls through 0 (`A < B`), +1 as g rises (`A > B`).
+    std::vector<int> event_directions;
+    /// Per event: 1 when its action is `stop`.
+    std::vector<unsigned char> event_stops;
+    /// g = A − B of every event.
+    std::function<void(double t, std::span<const double> q, std::span<const double> qdot, std::span<double> g)>
+        event_guards;
+    /// The resets of event k, every right side evaluated on (q, q') as given, then stored.
+    std::function<void(std::size_t k, double t, std::span<double> q, std::span<double> qdot)> apply_event;
+
     // (v2) Exact Jacobians (generated code provides them; may be empty for a hand-made system).
     /// ∂y'/∂y of y = (q, q'), y' = (q', q''): (2·dof)×(2·dof), row-major.
     std::function<void(double t, std::span<const double> q, std::span<const double> qdot, std::span<double> J)>

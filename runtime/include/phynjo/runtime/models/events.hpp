@@ -1,0 +1,115 @@
+#pragma once
+/// \file
+/// Events of generated models (lag-format.md, *Events*) between the steps of any integrator:
+/// crossings located on the step's continuous extension, resets applied at the crossing,
+/// the log of what fired as a value, and the rules for simultaneous events, re-arming and
+/// Zeno behaviour. (source: models/events.cpp)
+///
+/// The rules, in the order they act:
+/// - **Crossing.** Event k fires when its guard g_k passes from its *armed side* (g > 0 for
+///   `A < B`, g < 0 for `A > B`) to the other side (or onto 0). After each step the guards
+///   are evaluated at its end; an armed guard that is no longer on its armed side has
+///   crossed. Where: the cubic Hermite extension of the step (HermiteStep, from the states
+///   and accelerations at both ends) and the Illinois root finder (locate_crossing) to
+///   `time_tolerance`. The event time is the first time known to be across (so the guard is
+///   across after the event), never the end of the step. A guard that crosses and crosses
+///   back within one step is not seen (as in every integrator that checks signs at steps).
+/// - **Simultaneous events.** The earliest crossing sets the event time t_e; every armed
+///   event whose guard is across at t_e fires with it. Each one's right sides are evaluated
+///   on the state before the event (as the spec says of one event's actions); a coordinate or
+///   velocity reset by two of them takes the value of the later one in file order. If one of
+///   them is `stop`, nothing is reset: the run ends at t_e with the state there.
+/// - **Re-arming.** After its actions an event is disarmed until its guard is back on its
+///   armed side; the monitor looks for that just after t_e — on the Taylor arc
+///   q + v·δ + a·δ²/2 for δ from a few times the crossing bracket up to the rest of the step
+///   (a ball bounced upwards re-arms at once, even when its next flight is shorter than a
+///   step) — and then at the end of every step. A reset never fires another event: an
+///   event whose guard a reset throws across is disarmed, not fired.
+/// - **Zeno.** More than `max_events_per_step` events within one step of the run, or one
+///   event firing `zeno_run` times in a row with each interval at most 0.99 of the one before
+///   and the last shorter than a tenth of the step (a geometric accumulation), stops the run
+///   with ZenoError naming the event, the time, and the estimated accumulation point.
+/// - **The remedy** (`rest_speed` > 0): a velocity an event resets to a magnitude below
+///   rest_speed becomes 0 and the event *rests*: its reset coordinates and velocities are
+///   held (at their values then, velocities 0) after every step, while a free step would
+///   leave its guard across; a step that ends with the guard on the armed side releases it
+///   (lift-off). The bouncing ball comes to rest on the floor instead of chattering.
+#include "phynjo/runtime/models/lagrangian_system.hpp"
+
+#include <cstddef>
+#include <vector>
+
+namespace phynjo::runtime {
+
+/// One event that fired: the time, which event (file order), and the state just after its
+/// actions (for `stop`, the state at the event).
+struct EventRecord {
+    double time = 0;
+    std::size_t event = 0;
+    std::vector<double> q, qdot;
+};
+
+struct EventOptions {
+    /// The crossing time is located to this, s (lag-format.md: 1e-10 or better).
+    double time_tolerance = 1e-12;
+    /// Zeno: more events than this within one step of the run is an error.
+    std::size_t max_events_per_step = 100;
+    /// Zeno: this many firings of one event in a row at geometrically shrinking intervals,
+    /// the last below a tenth of the run's step, is an error.
+    std::size_t zeno_run = 6;
+    /// The Zeno remedy: velocity resets below this speed (in the velocity's units) become 0
+    /// and hold. 0 turns it off.
+    double rest_speed = 0;
+};
+
+/// What end_step found.
+struct EventStep {
+    bool fired = false;   ///< the world was moved back to the event time, after the actions
+    bool stopped = false; ///< a `stop` event fired: the run ends here
+};
+
+/// Watches the events of one run. Use: for each step of the run, `begin_run_step(dt)`; then
+/// until the world has reached the step's end: `begin_step(w)`, let the integrator advance
+/// w (w.time at the step's end), `end_step(w)` — after an event, w is at the event time and
+/// the integrator continues from there (a multistep solver restarts: the state jumped).
+/// Allocates nothing in a step without events.
+class EventMonitor {
+public:
+    explicit EventMonitor(LagrangianSystem system, EventOptions options = {});
+
+    /// A step of the run of length `dt` begins: the Zeno count starts again.
+    void begin_run_step(double dt);
+    /// Before the integrator advances `w`: remembers its time and state. The first call arms
+    /// the events whose guards are on their armed side.
+    void begin_step(const World& w);
+    /// After the integrator advanced `w` (w.time its new time): locates, applies, logs.
+    /// Throws ZenoError (see the rules above); the world is then at the last event.
+    EventStep end_step(World& w);
+
+    [[nodiscard]] const std::vector<EventRecord>& log() const noexcept { return log_; }
+    [[nodiscard]] bool stopped() const noexcept { return stopped_; }
+    [[nodiscard]] bool armed(std::size_t k) const { return armed_.at(k) != 0; }
+    [[nodiscard]] bool resting(std::size_t k) const { return resting_.at(k) != 0; }
+    [[nodiscard]] const LagrangianSystem& system() const noexcept { return sys_; }
+
+private:
+    [[nodiscard]] bool armed_side(std::size_t k, double g) const noexcept {
+        return sys_.event_directions[k] < 0 ? g > 0 : g < 0;
+    }
+    void check_zeno(std::size_t k, double t);
+
+    LagrangianSystem sys_;
+    EventOptions opt_;
+    std::size_t n_ = 0, ne_ = 0;
+    bool started_ = false, stopped_ = false;
+    double run_dt_ = 0, t0_ = 0;
+    std::size_t events_this_run_step_ = 0;
+    std::vector<double> q0_, v0_, a0_, a1_, g_, g_left_, qe_, ve_, qk_, vk_, qp_, vp_, ap_;
+    std::vector<unsigned char> armed_, resting_, fired_;
+    std::vector<std::size_t> held_by_; ///< per coordinate: the resting event holding it, or ne_
+    std::vector<double> arm_time_, held_q_;
+    std::vector<std::vector<double>> recent_; ///< per event: its last firing times (Zeno)
+    std::vector<EventRecord> log_;
+};
+
+} // namespace phynjo::runtime

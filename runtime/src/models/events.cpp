@@ -1,0 +1,230 @@
+// Events of generated models between integrator steps (models/events.hpp: the rules).
+#include "phynjo/runtime/models/events.hpp"
+
+#include "phynjo/runtime/models/crossing.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+namespace phynjo::runtime {
+
+namespace {
+std::string time_text(double t) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.17g", t);
+    return buf;
+}
+} // namespace
+
+EventMonitor::EventMonitor(LagrangianSystem system, EventOptions options) : sys_(std::move(system)), opt_(options) {
+    n_ = sys_.dof;
+    ne_ = sys_.n_events;
+    if (ne_ > 0 && (!sys_.event_guards || !sys_.apply_event || sys_.event_directions.size() != ne_ ||
+                    sys_.event_stops.size() != ne_ || sys_.event_names.size() != ne_))
+        throw std::invalid_argument("EventMonitor: the system declares " + std::to_string(ne_) +
+                                    " events but not their guards, actions, directions, stops and names");
+    if (!(opt_.time_tolerance > 0)) throw std::invalid_argument("EventMonitor: time_tolerance must be positive");
+    if (opt_.max_events_per_step == 0) throw std::invalid_argument("EventMonitor: max_events_per_step must be positive");
+    if (opt_.zeno_run < 3) throw std::invalid_argument("EventMonitor: zeno_run must be at least 3");
+    if (!(opt_.rest_speed >= 0)) throw std::invalid_argument("EventMonitor: rest_speed must not be negative");
+    for (auto* v : {&q0_, &v0_, &a0_, &a1_, &qe_, &ve_, &qk_, &vk_, &qp_, &vp_, &ap_, &held_q_}) v->assign(n_, 0.0);
+    for (auto* v : {&g_, &g_left_, &arm_time_}) v->assign(ne_, 0.0);
+    for (auto* v : {&armed_, &resting_, &fired_}) v->assign(ne_, 0);
+    held_by_.assign(n_, ne_);
+    recent_.resize(ne_);
+}
+
+void EventMonitor::begin_run_step(double dt) {
+    run_dt_ = dt;
+    events_this_run_step_ = 0;
+}
+
+void EventMonitor::begin_step(const World& w) {
+    t0_ = w.time;
+    const auto q = w.field(kGQ), v = w.field(kGV);
+    std::copy(q.begin(), q.end(), q0_.begin());
+    std::copy(v.begin(), v.end(), v0_.begin());
+    if (ne_ == 0) return;
+    if (!started_) {
+        started_ = true;
+        sys_.event_guards(t0_, q0_, v0_, g_);
+        for (std::size_t k = 0; k < ne_; ++k) {
+            armed_[k] = armed_side(k, g_[k]) ? 1 : 0;
+            arm_time_[k] = t0_;
+        }
+    }
+    for (std::size_t k = 0; k < ne_; ++k) arm_time_[k] = std::max(arm_time_[k], t0_);
+}
+
+EventStep EventMonitor::end_step(World& w) {
+    EventStep out;
+    if (ne_ == 0 || stopped_) return out;
+    const double t1 = w.time;
+    auto q1 = w.field(kGQ), v1 = w.field(kGV);
+    sys_.event_guards(t1, q1, v1, g_);
+    // resting events: released when the free step left the guard on its armed side, else held
+    bool restored = false;
+    for (std::size_t k = 0; k < ne_; ++k) {
+        if (!resting_[k]) continue;
+        if (armed_side(k, g_[k])) {
+            resting_[k] = 0;
+            armed_[k] = 1;
+            arm_time_[k] = t1;
+            for (std::size_t i = 0; i < n_; ++i)
+                if (held_by_[i] == k) held_by_[i] = ne_;
+        } else {
+            for (std::size_t i = 0; i < n_; ++i)
+                if (held_by_[i] == k) {
+                    q1[i] = held_q_[i];
+                    v1[i] = 0;
+                    restored = true;
+                }
+        }
+    }
+    if (restored) sys_.event_guards(t1, q1, v1, g_);
+    bool any = false;
+    for (std::size_t k = 0; k < ne_; ++k) {
+        if (resting_[k]) continue;
+        if (armed_[k]) any = any || !armed_side(k, g_[k]);
+        else if (armed_side(k, g_[k])) {
+            armed_[k] = 1; // back on its armed side: watch it from here
+            arm_time_[k] = t1;
+        }
+    }
+    if (!any) return out;
+
+    // the crossings, on the step's Hermite extension
+    sys_.accelerations(t0_, q0_, v0_, a0_);
+    sys_.accelerations(t1, q1, v1, a1_);
+    const HermiteStep arc(t0_, t1, q0_, v0_, a0_, q1, v1, a1_);
+    double te = t1, bracket = opt_.time_tolerance;
+    for (std::size_t k = 0; k < ne_; ++k) {
+        if (!armed_[k] || resting_[k] || armed_side(k, g_[k])) continue;
+        auto guard = [&](double t) {
+            arc.at(t, qe_, ve_);
+            sys_.event_guards(t, qe_, ve_, g_left_);
+            return g_left_[k];
+        };
+        const double left = std::min(arm_time_[k], t1);
+        double gl = guard(left);
+        if (!armed_side(k, gl) || left >= t1) {
+            // the arc disagrees with what armed it (within its error): the crossing is at left
+            if (left < te) te = left;
+            continue;
+        }
+        const Crossing c = locate_crossing(guard, left, t1, gl, g_[k], opt_.time_tolerance);
+        if (c.time < te) {
+            te = c.time;
+            bracket = std::max(c.hi - c.lo, opt_.time_tolerance);
+        }
+    }
+    // the state at t_e, and who fires: every armed event across there
+    arc.at(te, qe_, ve_);
+    sys_.event_guards(te, qe_, ve_, g_);
+    bool stop = false, fired_any = false;
+    for (std::size_t k = 0; k < ne_; ++k) {
+        fired_[k] = armed_[k] && !resting_[k] && !armed_side(k, g_[k]);
+        fired_any = fired_any || fired_[k];
+        if (fired_[k] && sys_.event_stops[k]) stop = true;
+    }
+    if (!fired_any) return out; // cannot happen: the earliest crossing is across at its own time
+    out.fired = true;
+    std::copy(qe_.begin(), qe_.end(), qp_.begin());
+    std::copy(ve_.begin(), ve_.end(), vp_.begin());
+    if (!stop) {
+        for (std::size_t k = 0; k < ne_; ++k) {
+            if (!fired_[k]) continue;
+            std::copy(qe_.begin(), qe_.end(), qk_.begin());
+            std::copy(ve_.begin(), ve_.end(), vk_.begin());
+            sys_.apply_event(k, te, qk_, vk_);
+            for (std::size_t i = 0; i < n_; ++i) {
+                if (qk_[i] != qe_[i]) qp_[i] = qk_[i];
+                if (vk_[i] != ve_[i]) {
+                    vp_[i] = vk_[i];
+                    if (opt_.rest_speed > 0 && std::fabs(vp_[i]) < opt_.rest_speed) {
+                        vp_[i] = 0;
+                        resting_[k] = 1;
+                        held_by_[i] = k;
+                    }
+                }
+            }
+        }
+        for (std::size_t i = 0; i < n_; ++i)
+            if (held_by_[i] < ne_) held_q_[i] = qp_[i];
+    }
+    w.time = te;
+    std::copy(qp_.begin(), qp_.end(), q1.begin());
+    std::copy(vp_.begin(), vp_.end(), v1.begin());
+    for (std::size_t k = 0; k < ne_; ++k)
+        if (fired_[k]) log_.push_back({te, k, qp_, vp_});
+    if (stop) {
+        stopped_ = true;
+        out.stopped = true;
+        return out;
+    }
+    // re-arming: every guard at the new state; a fired one also just after t_e on the Taylor arc
+    sys_.event_guards(te, qp_, vp_, g_);
+    bool probe = false;
+    for (std::size_t k = 0; k < ne_; ++k) {
+        if (resting_[k]) {
+            armed_[k] = 0;
+            continue;
+        }
+        armed_[k] = armed_side(k, g_[k]) ? 1 : 0;
+        arm_time_[k] = te;
+        probe = probe || (fired_[k] && !armed_[k]);
+    }
+    if (probe && t1 > te) {
+        sys_.accelerations(te, qp_, vp_, ap_);
+        for (double d = 4 * bracket; d <= t1 - te; d *= 2) {
+            for (std::size_t i = 0; i < n_; ++i) {
+                qk_[i] = qp_[i] + d * (vp_[i] + 0.5 * d * ap_[i]);
+                vk_[i] = vp_[i] + d * ap_[i];
+            }
+            sys_.event_guards(te + d, qk_, vk_, g_left_);
+            bool pending = false;
+            for (std::size_t k = 0; k < ne_; ++k) {
+                if (!fired_[k] || armed_[k] || resting_[k]) continue;
+                if (armed_side(k, g_left_[k])) {
+                    armed_[k] = 1;
+                    arm_time_[k] = te + d;
+                } else pending = true;
+            }
+            if (!pending) break;
+        }
+    }
+    for (std::size_t k = 0; k < ne_; ++k)
+        if (fired_[k]) {
+            ++events_this_run_step_;
+            check_zeno(k, te);
+        }
+    return out;
+}
+
+void EventMonitor::check_zeno(std::size_t k, double t) {
+    const std::string name = "event '" + sys_.event_names[k] + "'";
+    if (events_this_run_step_ > opt_.max_events_per_step)
+        throw ZenoError(name + " at t = " + time_text(t) + ": more than " + std::to_string(opt_.max_events_per_step) +
+                        " events within one step of the run (Zeno behaviour: events accumulating in finite time); "
+                        "a rest speed (--rest-speed) lets velocity resets below it end in rest");
+    auto& times = recent_[k];
+    times.push_back(t);
+    if (times.size() > opt_.zeno_run) times.erase(times.begin());
+    if (times.size() < opt_.zeno_run || run_dt_ <= 0) return;
+    double ratio = 0;
+    for (std::size_t j = 2; j < times.size(); ++j) {
+        const double before = times[j - 1] - times[j - 2], now = times[j] - times[j - 1];
+        if (!(now <= 0.99 * before)) return;
+        ratio = before > 0 ? now / before : 0;
+    }
+    const double last = times.back() - times[times.size() - 2];
+    if (!(last < 0.1 * run_dt_)) return;
+    throw ZenoError(name + " at t = " + time_text(t) + ": fired " + std::to_string(opt_.zeno_run) +
+                    " times at shrinking intervals, the last " + time_text(last) +
+                    " s (Zeno behaviour: infinitely many events before t = " + time_text(t + last * ratio / (1 - ratio)) +
+                    "); a rest speed (--rest-speed) lets velocity resets below it end in rest");
+}
+
+} // namespace phynjo::runtime
