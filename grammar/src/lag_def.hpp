@@ -22,6 +22,8 @@ struct input_stmt_class : annotate_position {};
 struct constraint_stmt_class : annotate_position {};
 struct event_action_class : annotate_position {};
 struct event_stmt_class : annotate_position {};
+struct relation_class {};
+struct event_actions_class {};
 struct statement_class : error_handler {}; // the entry rule
 struct bindings_class {};
 struct names_class {};
@@ -37,7 +39,9 @@ inline const x3::rule<force_stmt_class, ast::ForceStmt> force_stmt = "force stat
 inline const x3::rule<initial_stmt_class, ast::InitialStmt> initial_stmt = "initial statement";
 inline const x3::rule<input_stmt_class, ast::InputStmt> input_stmt = "input statement";
 inline const x3::rule<constraint_stmt_class, ast::ConstraintStmt> constraint_stmt = "constraint statement";
-inline const x3::rule<event_action_class, ast::EventAction> event_action = "event action (Q = EXPR, Q' = EXPR or stop)";
+inline const x3::rule<event_action_class, ast::EventAction> event_action = "an action (Q = EXPR, Q' = EXPR or stop)";
+inline const x3::rule<event_actions_class, std::vector<ast::EventAction>> event_actions = "an action (Q = EXPR, Q' = EXPR or stop)";
+inline const x3::rule<relation_class, char> relation = "'<' or '>'";
 inline const x3::rule<event_stmt_class, ast::EventStmt> event_stmt = "event statement";
 inline const x3::rule<statement_class, ast::Statement> statement = "statement";
 inline const x3::rule<bindings_class, std::vector<ast::Binding>> bindings = "binding";
@@ -57,12 +61,13 @@ inline const auto initial_stmt_def = kw("initial") > bindings;
 inline const auto input_stmt_def = kw("input") > bindings;
 inline const auto constraint_stmt_def = kw("constraint") > name > ':' > expression > '=' > expression;
 inline const auto event_action_def = name >> *x3::char_('\'') >> -('=' > expression);
-inline const auto event_stmt_def = kw("event") > name > ':' > expression > x3::char_("<>") > expression > "->" >
-                                   (event_action % ',');
+inline const auto event_actions_def = event_action % ',';
+inline const auto relation_def = x3::char_("<>");
+inline const auto event_stmt_def = kw("event") > name > ':' > expression > relation > expression > "->" > event_actions;
 inline const auto statement_def = model_stmt | coordinates_stmt | parameters_stmt | let_stmt | lagrangian_stmt |
                                   dissipation_stmt | force_stmt | initial_stmt | input_stmt | constraint_stmt | event_stmt;
 
 BOOST_SPIRIT_DEFINE(binding, bindings, names, model_stmt, coordinates_stmt, parameters_stmt, let_stmt, lagrangian_stmt, dissipation_stmt,
-                    force_stmt, initial_stmt, input_stmt, constraint_stmt, event_action, event_stmt, statement)
+                    force_stmt, initial_stmt, input_stmt, constraint_stmt, event_action, event_actions, relation, event_stmt, statement)
 
 } // namespace phynjo::grammar::parser

@@ -100,7 +100,7 @@ TEST_CASE("lag diagnostics: syntax, file-level problems, several errors per run"
           "m.lag:2:16: error: unmatched ')'\n    lagrangian q'^2)\n                   ^\n");
     CHECK(diagnose("coordinates q\nlagrangain q'^2\n") ==
           "m.lag:2:1: error: expected a statement (model, coordinates, parameters, let, lagrangian, dissipation, force, "
-          "initial, input or constraint), found 'lagrangain' (did you mean 'lagrangian'?)\n    lagrangain q'^2\n    ^~~~~~~~~~\n");
+          "initial, input, constraint or event), found 'lagrangain' (did you mean 'lagrangian'?)\n    lagrangain q'^2\n    ^~~~~~~~~~\n");
     CHECK(diagnose("coordinates q\nlagrangian 1/2*q'^2 +\n") ==
           "m.lag:2:22: error: expected an expression, found end of line\n    lagrangian 1/2*q'^2 +\n                         ^\n");
     CHECK(diagnose(std::string("coordinates q\nlagrangian q'^2 \xff\n")) ==
@@ -172,3 +172,27 @@ TEST_CASE("lag diagnostics: constraints and inputs, with notes", "[codegen][diag
     CHECK(diagnose("coordinates x, y\ninput u = 0.5\nlagrangian 1/2*(x'^2 + y'^2)\nforce x = u\n"
                    "constraint a: x = sin(t)\nconstraint b: x' + t*y' = 0\n") == "(accepted)");
 }
+
+// Bugs caught: events accepted with a constant guard, a reset of a parameter, `stop` mixed
+// with resets; a reset written twice without the note to the first; a syntax error in an
+// event reported in X3's words; several mistakes in one event reported one by one.
+TEST_CASE("lag diagnostics: events, with notes", "[codegen][diagnostics][events]") {
+    CHECK(diagnose("coordinates x\nlagrangian 1/2*x'^2\nevent e: x < 0 -> x' = 0, x' = 1\n") ==
+          "m.lag:3:27: error: event 'e' resets x' twice\n    event e: x < 0 -> x' = 0, x' = 1\n                              ^\n"
+          "m.lag:3:19: note: the first reset of x' is here\n    event e: x < 0 -> x' = 0, x' = 1\n                      ^\n");
+    CHECK(diagnose("coordinates x\nparameters m = 1\nlagrangian 1/2*x'^2\nevent e: m < 1 -> m = 2, stop\n") ==
+          "m.lag:4:10: error: the guard of event 'e' is constant: m - 1 depends on no coordinate, velocity, input or t, "
+          "so it never crosses zero\n    event e: m < 1 -> m = 2, stop\n             ^~\n"
+          "m.lag:4:19: error: event 'e' resets 'm', which is not a coordinate\n    event e: m < 1 -> m = 2, stop\n"
+          "                      ^\n");
+    CHECK(diagnose("coordinates x\nlagrangian 1/2*x'^2\nevent e: x = 0 -> stop\n") ==
+          "m.lag:3:12: error: expected '<' or '>', found '='\n    event e: x = 0 -> stop\n               ^\n");
+    CHECK(diagnose("coordinates x\nlagrangian 1/2*x'^2\nevent e: x < 0 -> x' = -x', stop\n") ==
+          "m.lag:3:29: error: event 'e' mixes 'stop' with resets: a run that stops at the event never uses the reset "
+          "state (write two events, or drop the resets)\n    event e: x < 0 -> x' = -x', stop\n                                ^~~~\n");
+    // accepted: `<` and `>`, guards on t, velocities and inputs, resets of both kinds, stop,
+    // and `->` right after an expression ending in a name (not a minus)
+    CHECK(diagnose("coordinates x, y\ninput u = 0\nlagrangian 1/2*(x'^2 + y'^2)\nevent a: x < -1 -> x' = -x', y = 0\n"
+                   "event b: y' > u -> stop\nevent c: t > 2->stop\n") == "(accepted)");
+}
+

@@ -290,20 +290,9 @@ int model_main(int argc, char** argv, const ModelCommandLine& model) {
             if (!with_events) {
                 step_to(target, h);
                 w.time = target;
-            } else {
-                monitor.begin_run_step(h);
-                bool whole = true;
-                while (w.time < target - 1e-12 * dt) {
-                    monitor.begin_step(w);
-                    step_to(target, whole ? h : target - w.time);
-                    const EventStep e = monitor.end_step(w);
-                    if (e.stopped) {
-                        row();
-                        return false;
-                    }
-                    whole = whole && !e.fired;
-                }
-                w.time = target;
+            } else if (!advance_with_events(monitor, w, target, h, step_to)) {
+                row(); // stopped by an event: the state at it is the last row
+                return false;
             }
             if (k % every == 0 || k == total) row();
             return true;

@@ -112,4 +112,25 @@ private:
     std::vector<EventRecord> log_;
 };
 
+/// One step of a run, `h` long, from w.time to `target` (= w.time + h), watched by `monitor`:
+/// `step_to(target, dt)` takes one step of the integrator, dt long (h itself while no event
+/// has fired in this step of the run, the rest of it after one), and leaves w.time where it
+/// ended (an adaptive integrator may end short of target: it is called again). Ends with
+/// w.time = target exactly and returns true, or returns false when a `stop` event ended the
+/// run (w at the event). Throws what end_step throws (ZenoError).
+template <typename StepTo>
+bool advance_with_events(EventMonitor& monitor, World& w, double target, double h, StepTo&& step_to) {
+    monitor.begin_run_step(h);
+    bool whole = true;
+    while (w.time < target - 1e-12 * h) {
+        monitor.begin_step(w);
+        step_to(target, whole ? h : target - w.time);
+        const EventStep e = monitor.end_step(w);
+        if (e.stopped) return false;
+        whole = whole && !e.fired;
+    }
+    w.time = target;
+    return true;
+}
+
 } // namespace phynjo::runtime
