@@ -212,7 +212,9 @@ void EventMonitor::check_zeno(std::size_t k, double t) {
     auto& times = recent_[k];
     times.push_back(t);
     if (times.size() > opt_.zeno_run) times.erase(times.begin());
-    if (times.size() < opt_.zeno_run || run_dt_ <= 0) return;
+    // with the remedy on, a chattering sequence is expected to end in rest: only the
+    // per-step limit above applies
+    if (times.size() < opt_.zeno_run || run_dt_ <= 0 || opt_.rest_speed > 0) return;
     double ratio = 0;
     for (std::size_t j = 2; j < times.size(); ++j) {
         const double before = times[j - 1] - times[j - 2], now = times[j] - times[j - 1];

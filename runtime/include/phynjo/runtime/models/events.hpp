@@ -33,7 +33,9 @@
 ///   rest_speed becomes 0 and the event *rests*: its reset coordinates and velocities are
 ///   held (at their values then, velocities 0) after every step, while a free step would
 ///   leave its guard across; a step that ends with the guard on the armed side releases it
-///   (lift-off). The bouncing ball comes to rest on the floor instead of chattering.
+///   (lift-off). The bouncing ball comes to rest on the floor instead of chattering. With
+///   the remedy on, the geometric Zeno test is off (a chattering sequence is expected to
+///   end in rest); the per-step limit still applies.
 #include "phynjo/runtime/models/lagrangian_system.hpp"
 
 #include <cstddef>

@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# The simulators of models with events (generated-api.md: --events FILE): the events CSV,
+# a stop, Zeno as exit 1 with a message naming the event, the rest-speed remedy, usage errors.
+# Catches: no --events file or a wrong header, rows before their crossing, a Zeno run that
+# exits 0 or hangs, a stop that does not end the output at the crossing.
+#   usage: test_events_main.sh BUILD_EXAMPLES_DIR
+set -u
+bin=$1
+. "$(dirname "$0")/check.sh"
+ball="$bin/bouncing_ball_sim"; wall="$bin/pendulum_wall_sim"
+
+"$ball" --help | grep -q "the model's events: bounce" && ok "--help names the events" || bad "--help events"
+"$ball" --t-end 2 --events "$work/ev.csv" -o "$work/ball.csv"; rc=$?
+[ $rc -eq 0 ] && ok "ball 2 s: exit 0" || bad "ball 2 s: exit $rc"
+[ "$(head -1 "$work/ev.csv")" = "t,event,y,y'" ] && ok "events header" || bad "events header: $(head -1 "$work/ev.csv")"
+# impacts at 0.4515, 1.1740, 1.7519 s (closed form), speeds 0.8^n * 4.4294 m/s after them
+awk -F, 'NR > 1 { printf "%.6f %s %.6f\n", $1, $2, $4 }' "$work/ev.csv" > "$work/ev.txt"
+[ "$(tr '\n' ' ' < "$work/ev.txt")" = "0.451524 bounce 3.543558 1.173961 bounce 2.834846 1.751912 bounce 2.267877 " ] \
+  && ok "three impacts at the closed-form times" || bad "impacts: $(tr '\n' ' ' < "$work/ev.txt")"
+awk -F, 'NR > 1 && $2 < -1e-9 { bad = 1 } END { exit bad }' "$work/ball.csv" && ok "never below the floor" || bad "below the floor"
+
+"$ball" --t-end 6 -o "$work/zeno.csv" 2>"$work/zeno.err"; rc=$?
+[ $rc -eq 1 ] && grep -q "event 'bounce' at t = 4.06.*Zeno" "$work/zeno.err" && ok "Zeno: exit 1, the event and the time" \
+  || bad "Zeno: exit $rc, $(cat "$work/zeno.err")"
+"$ball" --t-end 6 --rest-speed 0.05 -o "$work/rest.csv" 2>"$work/rest.err"; rc=$?
+[ $rc -eq 0 ] && [ "$(tail -1 "$work/rest.csv" | cut -d, -f1,3)" = "6,0" ] && ok "--rest-speed: at rest at the end" \
+  || bad "--rest-speed: exit $rc, $(tail -1 "$work/rest.csv")"
+for bad in "--rest-speed 0" "--rest-speed -1" "--max-events-per-step 0" "--max-events-per-step x" "--events"; do
+  "$ball" $bad --t-end 0.01 >/dev/null 2>&1; rc=$?
+  [ $rc -eq 2 ] && ok "usage error: $bad" || bad "usage error: $bad (exit $rc)"
+done
+"$ball" --t-end 1 --events "$work/no/such/dir.csv" >/dev/null 2>&1; [ $? -eq 1 ] && ok "unwritable events file: exit 1" || bad "unwritable events file"
+
+# the pendulum at the wall: every impact at th = th_wall, with every integrator
+for integrator in rk4 dopri midpoint cvode ida; do
+  "$wall" --t-end 8 --integrator $integrator --events "$work/w.csv" -o /dev/null 2>/dev/null; rc=$?
+  n=$(awk -F, 'NR > 1 && ($3 + 0.3 > 1e-8 || $3 + 0.3 < -1e-8) { bad++ } NR > 1 { n++ } END { print (bad ? -1 : n) }' "$work/w.csv")
+  [ $rc -eq 0 ] && [ "$n" -ge 5 ] && ok "pendulum-wall with $integrator: $n impacts at the wall" || bad "pendulum-wall $integrator: exit $rc, $n"
+done
+finish
