@@ -163,7 +163,7 @@ TEST_CASE("stop ends the run at the crossing: a `>` guard on y, a guard on y'", 
 }
 
 // Bugs caught: one of two simultaneous events lost, or fired a step later; their resets
-// mixed up.
+// mixed up; the second event's right side read after the first event's reset (b2 reads y1').
 TEST_CASE("Simultaneous events fire together, each with its own reset", "[codegen][events]") {
     const Run r = run(two_balls::system({}), "rk4", 0.5, 1e-3);
     REQUIRE(r.log.size() == 2);
