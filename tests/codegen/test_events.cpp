@@ -225,3 +225,55 @@ TEST_CASE("Zeno: the accumulation stops the run with an error, and the rest spee
     // the per-step limit: a tiny one trips on the first step with two events
     CHECK_THROWS_AS(run(two_balls::system({}), "rk4", 0.5, 1e-3, {.max_events_per_step = 1}), ZenoError);
 }
+
+// Bugs caught: model events missing from the event layer's Phenomenon or stamped with the
+// wrong tick, a pulse that stays raised (every later tick would report it), rules of the
+// user's that cannot see the model's events, and a par that lets two rules write a model
+// event's flag.
+TEST_CASE("The model's events on the event layer: flags, a user's latch, the Phenomenon", "[codegen][events]") {
+    const LagrangianSystem s = bouncing_ball::system({});
+    Registry flags;
+    const std::vector<Index> ev = add_event_flags(flags, s, "ball.");
+    const Index landed = flags.add("landed");
+    REQUIRE(flags.label(ev[0]) == "ball.bounce");
+    FlagWorld fw(flags);
+    // the user's rule: a latch raised by the first bounce, read before the model rule lowers it
+    const EventRule latch{"latch", ComponentSet{landed}, ComponentSet{ev[0]},
+                          [b = ev[0]](const FlagLit& in, std::span<std::uint8_t> out) {
+                              if (in.lookup(b)) out[0] = 1;
+                          },
+                          nullptr};
+    const EventRule model = model_events_rule("ball", s, ev);
+    const EventWorkflow wf = EventWorkflow::seq(EventWorkflow::run(latch, fw), EventWorkflow::run(model, fw));
+    const EventRule other{"other", ComponentSet{ev[0]}, {}, [](const FlagLit&, std::span<std::uint8_t>) {}, nullptr};
+    CHECK_THROWS_AS(EventWorkflow::par(EventWorkflow::run(model, fw), EventWorkflow::run(other, fw)), DomainOverlapError);
+    Interpreter<FlagWorld> layer(wf.process());
+    Phenomenon phenomenon;
+    World w = make_lagrangian_world(s);
+    Stepper stepper(lagrangian_rk4(s, w.layout_ptr()));
+    EventMonitor monitor(s);
+    std::size_t cursor = 0;
+    std::vector<std::uint64_t> ticks_of_bounces;
+    bool latched_before_first = false;
+    for (long k = 1; k <= 3500; ++k) {
+        advance_with_events(monitor, w, static_cast<double>(k) * 1e-3, 1e-3, [&](double target, double h) {
+            stepper.step(w, h);
+            w.time = target;
+        });
+        const std::size_t before = cursor;
+        cursor = signal_events(monitor, cursor, ev, fw);
+        if (cursor > before) ticks_of_bounces.push_back(fw.tick);
+        if (ticks_of_bounces.empty() && fw.flags.lookup(landed)) latched_before_first = true;
+        layer.step(fw, 0, &phenomenon);
+        CHECK(!fw.flags.lookup(ev[0])); // a pulse: lowered at the tick it was raised
+    }
+    CHECK(!latched_before_first);
+    CHECK(fw.flags.lookup(landed));
+    REQUIRE(monitor.log().size() == 9);
+    REQUIRE(phenomenon.size() == 9);
+    for (std::size_t n = 0; n < 9; ++n) {
+        CHECK(phenomenon[n].tick == ticks_of_bounces[n] + 1); // the second rule of a seq: one tick after the first
+        CHECK(phenomenon[n].component == ev[0]);
+        CHECK(phenomenon[n].what == "bounce fired");
+    }
+}

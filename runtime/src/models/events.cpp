@@ -203,6 +203,43 @@ EventStep EventMonitor::end_step(World& w) {
     return out;
 }
 
+std::vector<Index> add_event_flags(Registry& flags, const LagrangianSystem& system, std::string_view prefix) {
+    std::vector<Index> out;
+    for (const std::string& name : system.event_names) out.push_back(flags.add(std::string(prefix) + name));
+    return out;
+}
+
+std::size_t signal_events(const EventMonitor& monitor, std::size_t since, std::span<const Index> flags, FlagWorld& world) {
+    const auto& log = monitor.log();
+    if (flags.size() != monitor.system().n_events)
+        throw std::invalid_argument("signal_events: " + std::to_string(flags.size()) + " flags for " +
+                                    std::to_string(monitor.system().n_events) + " events");
+    for (std::size_t i = since; i < log.size(); ++i) world.flags.set(flags[log[i].event], true);
+    return log.size();
+}
+
+EventRule model_events_rule(std::string name, const LagrangianSystem& system, std::span<const Index> flags) {
+    if (flags.size() != system.n_events)
+        throw std::invalid_argument("model_events_rule: " + std::to_string(flags.size()) + " flags for " +
+                                    std::to_string(system.n_events) + " events");
+    std::vector<Index> idx(flags.begin(), flags.end());
+    const ComponentSet domain{std::vector<Index>(idx)};
+    if (domain.indices().size() != idx.size()) throw std::invalid_argument("model_events_rule: a flag given for two events");
+    // the slice is in the order of domain.indices(): name each position by its event
+    std::vector<std::pair<Index, std::string>> named;
+    for (std::size_t k = 0; k < idx.size(); ++k) named.emplace_back(idx[k], system.event_names[k]);
+    std::vector<std::pair<Index, std::string>> by_slot;
+    for (Index i : domain.indices())
+        for (const auto& [flag, event] : named)
+            if (flag == i) by_slot.emplace_back(i, event);
+    return EventRule{std::move(name), domain, {},
+                     [](const FlagLit&, std::span<std::uint8_t> out) { std::fill(out.begin(), out.end(), 0); },
+                     [by_slot](std::uint64_t tick, std::span<const std::uint8_t> slice, Phenomenon& events) {
+                         for (std::size_t j = 0; j < slice.size(); ++j)
+                             if (slice[j]) events.push_back(epsilon(by_slot[j].first, tick, by_slot[j].second + " fired"));
+                     }};
+}
+
 void EventMonitor::check_zeno(std::size_t k, double t) {
     const std::string name = "event '" + sys_.event_names[k] + "'";
     if (events_this_run_step_ > opt_.max_events_per_step)

@@ -36,6 +36,7 @@
 ///   (lift-off). The bouncing ball comes to rest on the floor instead of chattering. With
 ///   the remedy on, the geometric Zeno test is off (a chattering sequence is expected to
 ///   end in rest); the per-step limit still applies.
+#include "phynjo/runtime/core/event.hpp"
 #include "phynjo/runtime/models/lagrangian_system.hpp"
 
 #include <cstddef>
@@ -113,6 +114,25 @@ private:
     std::vector<std::vector<double>> recent_; ///< per event: its last firing times (Zeno)
     std::vector<EventRecord> log_;
 };
+
+// ---- The model's events on the runtime's event layer (core/event.hpp) -------------------
+// The physical layer signals, the Boolean layer reacts (the seed's sensors): after each step
+// of the run, signal_events raises one flag per model event that fired; event rules of the
+// user's read those flags in an EventWorkflow; model_events_rule turns them into the
+// Phenomenon (the event layer's log) and lowers them again.
+
+/// Registers one flag per event of `system`, labelled PREFIX + event name ("ball.bounce"),
+/// in file order; returns their indices.
+std::vector<Index> add_event_flags(Registry& flags, const LagrangianSystem& system, std::string_view prefix);
+
+/// Raises the flag of every event that fired since log entry `since` of `monitor` (flags[k]
+/// for event k; the others are left as they are); returns the new cursor, log().size().
+std::size_t signal_events(const EventMonitor& monitor, std::size_t since, std::span<const Index> flags, FlagWorld& world);
+
+/// An event rule over the flags of add_event_flags (its domain): each tick it emits one
+/// Event per raised flag, "NAME fired" (the Phenomenon of the event layer), and lowers it: a
+/// model event is a one-tick pulse. Rules that read those flags run before it in a `seq`.
+EventRule model_events_rule(std::string name, const LagrangianSystem& system, std::span<const Index> flags);
 
 /// One step of a run, `h` long, from w.time to `target` (= w.time + h), watched by `monitor`:
 /// `step_to(target, dt)` takes one step of the integrator, dt long (h itself while no event
