@@ -24,6 +24,31 @@ std::string emit_latex(const Model& m, const EquationsOfMotion& eom) {
                     "\n\\documentclass{article}\n\\usepackage{amsmath}\n\\usepackage[margin=2cm]{geometry}\n"
                     "\\allowdisplaybreaks\n\\begin{document}\n\\section*{" +
                     m.name + "}\n";
+    // the coordinates and parameters, with their units (lag-format.md, *Units*)
+    auto unit = [](const std::string& u) {
+        if (u.empty()) return std::string();
+        std::string out; // kg*m^2/s^2 -> \mathrm{kg\,m^{2}/s^{2}}
+        for (std::size_t i = 0; i < u.size(); ++i) {
+            if (u[i] == '*') out += "\\,";
+            else if (u[i] == '^') {
+                std::size_t j = i + 1;
+                while (j < u.size() && u[j] != '*' && u[j] != '/' && u[j] != ')') ++j;
+                if (u[i + 1] == '(') { // ^(1/2)
+                    j = u.find(')', i) + 1;
+                }
+                out += "^{" + u.substr(i + 1, j - i - 1) + "}";
+                i = j - 1;
+            } else out += u[i];
+        }
+        return "\\;\\mathrm{" + out + "}";
+    };
+    s += "\\subsection*{Coordinates and parameters}\n\\[ q = (";
+    for (std::size_t i = 0; i < n; ++i)
+        s += (i ? ",\\ " : "") + cas::to_latex(m.coordinates[i].symbol) + unit(m.coordinates[i].unit);
+    s += ") \\]\n";
+    for (const Parameter& p : m.parameters)
+        s += "\\[ " + cas::to_latex(p.symbol) + " = " + cas::to_latex(p.derived() ? p.definition : p.value) + unit(p.unit) +
+             (p.input ? " \\quad\\text{(input)}" : "") + " \\]\n";
     s += "\\subsection*{Lagrangian}\n\\[ L = " + cas::to_latex(m.lagrangian) + " \\]\n";
     // \mathcal{R}: the Rayleigh function never reads like a parameter named R
     if (!m.dissipation.is_zero()) s += "\\[ \\mathcal{R} = " + cas::to_latex(m.dissipation) + " \\]\n";

@@ -3,6 +3,8 @@
 
 #include "phynjo/cas/cas.hpp"
 
+#include "units.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <array>
@@ -42,6 +44,11 @@ public:
         model_.name = std::string(default_name);
         model_.dissipation = Expr(0);
         failed_names_ = parsed.failed_names;
+        if (parsed.has_units)
+            units_.emplace(pos_, sink_, [this](std::string_view name) -> std::optional<units::Dim> {
+                if (auto it = dims_.find(name); it != dims_.end()) return it->second;
+                return std::nullopt;
+            });
         for (const Statement& st : parsed.statements) boost::apply_visitor([this](const auto& s) { visit(s); }, st);
         // one mistake, one error: a statement with a syntax error is not also missing
         auto failed = [&](std::string_view kw) {
@@ -71,6 +78,35 @@ private:
     std::vector<std::string> failed_names_; ///< names declared in statements with syntax errors
     SourceSpan coordinates_at_, lagrangian_at_, dissipation_at_, model_at_;
     std::vector<Expr> forces_, init_q_, init_qd_;
+    /// (v2) Dimensions, when the file carries units: the checker and every declared name's.
+    std::optional<units::Checker> units_;
+    std::map<std::string, units::Dim, std::less<>> dims_;
+
+    /// The dimension of `e` (nothing after an error, or without units).
+    std::optional<units::Dim> dim(const grammar::ast::Expression& e) { return units_ ? units_->of(e) : std::nullopt; }
+    /// Records the dimension of a declared name; after an error, one that fits anything (no cascade).
+    std::string record_dim(const std::string& name, std::optional<units::Dim> d) {
+        if (!d) {
+            d = units::Dim{};
+            d->any = true;
+        }
+        dims_[name] = *d;
+        return d->any || d->dimensionless() ? std::string() : units::to_string(*d);
+    }
+    /// Checks that every term of a sum has dimension `expected`.
+    void check_terms(const grammar::ast::Expression& e, const units::Dim& expected, const std::string& what) {
+        if (!units_) return;
+        if (auto d = units_->of(e.first)) units_->expect(e.first, *d, expected, what);
+        for (const auto& op : e.rest)
+            if (auto d = units_->of(op.operand)) units_->expect(op.operand, *d, expected, what);
+    }
+    /// Checks that `e` has the dimension of coordinate i (its velocity when `velocity`).
+    void check_like(const grammar::ast::Expression& e, std::size_t i, bool velocity, const std::string& what) {
+        if (!units_) return;
+        units::Dim target = dims_.at(model_.coordinates[i].name);
+        if (velocity) target = target / units::seconds();
+        if (auto d = units_->of(e)) units_->expect(e, *d, target, what);
+    }
 
     SourceSpan span(const boost::spirit::x3::position_tagged& node) const {
         const auto s = pos_.of(node);
@@ -198,9 +234,13 @@ private:
 
     void visit(const grammar::ast::CoordinatesStmt& s) {
         if (!once(coordinates_seen_, coordinates_at_, span(s), "coordinates")) return;
-        for (const auto& n : s.names) {
+        for (const auto& decl : s.names) {
+            const auto& n = decl.name;
             const Expr sym = cas::symbol(n.text);
-            if (declare(n, NameKind::Coordinate, sym)) model_.coordinates.push_back({n.text, sym, span(n)});
+            if (declare(n, NameKind::Coordinate, sym)) {
+                model_.coordinates.push_back({n.text, sym, span(n)});
+                if (units_) model_.coordinates.back().unit = record_dim(n.text, decl.unit ? units_->of(*decl.unit) : units::Dim{});
+            }
         }
         forces_.assign(model_.coordinates.size(), Expr{});
         init_q_.assign(model_.coordinates.size(), Expr{});
@@ -257,6 +297,7 @@ private:
             if (declare(b.name, NameKind::Parameter, sym)) {
                 model_.parameters.push_back({b.name.text, sym, exact, dflt, span(b.name), derived ? *v : Expr{}});
                 model_.parameters.back().input = input;
+                if (units_) model_.parameters.back().unit = record_dim(b.name.text, dim(b.value));
             }
         }
     }
@@ -272,6 +313,11 @@ private:
         auto a = expression(s.lhs);
         auto b = expression(s.rhs);
         if (!a || !b) return;
+        if (units_) {
+            auto da = dim(s.lhs), db = dim(s.rhs);
+            if (da && db && !da->any)
+                units_->expect(s.rhs, *db, *da, "the sides of constraint '" + s.name.text + "' differ in dimension");
+        }
         const Expr phi = *a - *b;
         const auto vars = cas::free_variables(phi);
         bool has_velocity = false, has_coordinate = false;
@@ -323,6 +369,11 @@ private:
         auto a = expression(s.lhs);
         auto b = expression(s.rhs);
         Event event{s.name.text, Expr{}, s.relation == '>' ? 1 : -1, {}, false, at};
+        if (units_ && a && b) {
+            auto da = dim(s.lhs), db = dim(s.rhs);
+            if (da && db && !da->any)
+                units_->expect(s.rhs, *db, *da, "the sides of the guard of " + ev + " differ in dimension");
+        }
         bool ok = a && b;
         if (ok) {
             event.guard = *a - *b;
@@ -368,6 +419,7 @@ private:
                 continue;
             }
             const bool velocity = act.primes.size() == 1;
+            check_like(*act.value, *i, velocity, "the reset of " + act.name.text + act.primes + " by " + ev);
             for (const EventReset& r : event.resets)
                 if (r.coordinate == *i && r.velocity == velocity) {
                     error(span(act.name), ev + " resets " + act.name.text + act.primes + " twice");
@@ -385,6 +437,10 @@ private:
     }
 
     void visit(const grammar::ast::LetStmt& s) {
+        if (s.unit)
+            error(span(*s.unit), "a let takes its dimension from its value: no unit on '" + s.name.text +
+                                     "' (write units on the numbers of its value, or on parameters and coordinates)");
+        if (units_) record_dim(s.name.text, dim(s.value));
         auto v = expression(s.value);
         if (!v) {
             // declare anyway (as unknown-valued) to avoid cascades of "unknown name"
@@ -398,11 +454,13 @@ private:
         if (!once(lagrangian_seen_, lagrangian_at_, span(s), "lagrangian")) return;
         model_.lagrangian_where = span(s);
         if (auto v = expression(s.value)) model_.lagrangian = *v;
+        check_terms(s.value, units::energy(), "a term of the Lagrangian is not an energy");
     }
 
     void visit(const grammar::ast::DissipationStmt& s) {
         if (!once(dissipation_seen_, dissipation_at_, span(s), "dissipation")) return;
         if (auto v = expression(s.value)) model_.dissipation = *v;
+        check_terms(s.value, units::power(), "a term of the dissipation function is not a power");
     }
 
     /// The index of coordinate `name`, or nothing after reporting why not.
@@ -428,6 +486,10 @@ private:
             return;
         }
         forces_[*i] = *v;
+        if (units_)
+            if (auto d = dim(s.value))
+                units_->expect(s.value, *d, units::energy() / dims_.at(s.coordinate.text),
+                               "the force on " + s.coordinate.text + " is not an energy per unit of " + s.coordinate.text);
     }
 
     void visit(const grammar::ast::InitialStmt& s) {
@@ -456,6 +518,7 @@ private:
                     continue;
                 }
             }
+            check_like(b.value, *i, !b.primes.empty(), what);
             auto& slot = b.primes.empty() ? init_q_[*i] : init_qd_[*i];
             if (!slot.is_null()) {
                 error(span(b.name), "a second initial value for " + b.name.text + b.primes);

@@ -105,6 +105,7 @@ struct unary_class : annotate_position {};
 struct product_op_class : annotate_position {};
 struct product_class : annotate_position {};
 struct sum_op_class : annotate_position {};
+struct unit_class : annotate_position {};
 struct expression_class : annotate_position {};
 struct input_class : error_handler {};
 
@@ -119,6 +120,7 @@ inline const x3::rule<unary_class, ast::Unary> unary = "operand";
 inline const x3::rule<product_op_class, ast::ProductOp> product_op = "operand";
 inline const x3::rule<product_class, ast::Product> product = "operand";
 inline const x3::rule<sum_op_class, ast::SumOp> sum_op = "operand";
+inline const x3::rule<unit_class, ast::Unit> unit = "unit";
 inline const x3::rule<expression_class, ast::Expression> expression = "expression";
 /// The entry rule: an expression, with the error handler.
 inline const x3::rule<input_class, ast::Expression> input = "expression";
@@ -135,13 +137,15 @@ inline const auto postfix_def = primary >> *x3::char_('\'');
 inline const auto power_def = postfix >> -('^' > guarded[unary]);
 inline const auto unary_def = *x3::char_('-') >> power;
 inline const auto product_op_def = x3::char_("*/") > unary;
-inline const auto product_def = unary >> *product_op;
+// (v2) `[unit]`: any text up to `]` on the line; phynjo-lagc's front end reads it
+inline const auto unit_def = '[' > x3::lexeme[*(x3::char_ - x3::char_("[]\n"))] > ']';
+inline const auto product_def = unary >> *product_op >> -unit;
 // `-` followed by `>` is the arrow of an event statement, not a minus
 inline const auto sum_op_def = (x3::char_('+') | (x3::char_('-') >> !x3::lit('>'))) > product;
 inline const auto expression_def = product >> *sum_op;
 inline const auto input_def = expression;
 
-BOOST_SPIRIT_DEFINE(number, name, call, paren, primary, postfix, power, unary, product_op, product, sum_op,
+BOOST_SPIRIT_DEFINE(number, name, call, paren, primary, postfix, power, unary, product_op, product, sum_op, unit,
                     expression, input)
 
 /// White space and `#` comments.

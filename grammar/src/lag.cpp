@@ -164,6 +164,11 @@ ParsedModel parse_model(std::string_view text, Positions& positions, DiagnosticS
         return model;
     }
     bool continuation_pending = false; // the last statement ended in mid-expression at a line end
+    for (std::size_t i = 0; i < text.size() && !model.has_units; ++i) {
+        if (text[i] == '#')
+            while (i + 1 < text.size() && text[i + 1] != '\n') ++i;
+        else if (text[i] == '[') model.has_units = true;
+    }
     for (const Range& r : split_statements(text, sink, limits.expression)) {
         auto first = text.begin() + static_cast<std::ptrdiff_t>(r.begin);
         const auto last = text.begin() + static_cast<std::ptrdiff_t>(r.end);

@@ -27,6 +27,7 @@ struct event_actions_class {};
 struct statement_class : error_handler {}; // the entry rule
 struct bindings_class {};
 struct names_class {};
+struct coordinate_decl_class : annotate_position {};
 
 inline const x3::rule<binding_class, ast::Binding> binding = "binding";
 inline const x3::rule<model_stmt_class, ast::ModelStmt> model_stmt = "model statement";
@@ -45,15 +46,17 @@ inline const x3::rule<relation_class, char> relation = "'<' or '>'";
 inline const x3::rule<event_stmt_class, ast::EventStmt> event_stmt = "event statement";
 inline const x3::rule<statement_class, ast::Statement> statement = "statement";
 inline const x3::rule<bindings_class, std::vector<ast::Binding>> bindings = "binding";
-inline const x3::rule<names_class, std::vector<ast::Name>> names = "name";
+inline const x3::rule<names_class, std::vector<ast::CoordinateDecl>> names = "name";
+inline const x3::rule<coordinate_decl_class, ast::CoordinateDecl> coordinate_decl = "name";
 
 inline const auto binding_def = name >> *x3::char_('\'') > '=' > expression;
 inline const auto bindings_def = binding % ',';
-inline const auto names_def = name % ',';
+inline const auto coordinate_decl_def = name >> -unit;
+inline const auto names_def = coordinate_decl % ',';
 inline const auto model_stmt_def = kw("model") > name;
 inline const auto coordinates_stmt_def = kw("coordinates") > names;
 inline const auto parameters_stmt_def = kw("parameters") > bindings;
-inline const auto let_stmt_def = kw("let") > name > '=' > expression;
+inline const auto let_stmt_def = kw("let") > name > -unit > '=' > expression;
 inline const auto lagrangian_stmt_def = kw("lagrangian") > expression;
 inline const auto dissipation_stmt_def = kw("dissipation") > expression;
 inline const auto force_stmt_def = kw("force") > name > '=' > expression;
@@ -67,7 +70,7 @@ inline const auto event_stmt_def = kw("event") > name > ':' > expression > relat
 inline const auto statement_def = model_stmt | coordinates_stmt | parameters_stmt | let_stmt | lagrangian_stmt |
                                   dissipation_stmt | force_stmt | initial_stmt | input_stmt | constraint_stmt | event_stmt;
 
-BOOST_SPIRIT_DEFINE(binding, bindings, names, model_stmt, coordinates_stmt, parameters_stmt, let_stmt, lagrangian_stmt, dissipation_stmt,
+BOOST_SPIRIT_DEFINE(binding, bindings, names, coordinate_decl, model_stmt, coordinates_stmt, parameters_stmt, let_stmt, lagrangian_stmt, dissipation_stmt,
                     force_stmt, initial_stmt, input_stmt, constraint_stmt, event_action, event_actions, relation, event_stmt, statement)
 
 } // namespace phynjo::grammar::parser

@@ -196,3 +196,25 @@ TEST_CASE("lag diagnostics: events, with notes", "[codegen][diagnostics][events]
                    "event b: y' > u -> stop\nevent c: t > 2->stop\n") == "(accepted)");
 }
 
+
+// Bugs caught: a dimension check that stops at the first error of a file, misses a term of
+// L, reads `1/2 [N/m]` as 1/(2 N/m), points at the whole statement instead of the term,
+// names the wrong dimension, or checks files without units (every v1 file must compile).
+TEST_CASE("lag diagnostics: units and dimensions", "[codegen][diagnostics][units]") {
+    CHECK(diagnose("coordinates x [m]\nparameters m = 2 [kg], k = 1/2 [N/m]\nlagrangian 1/2*m*x'^2 - 1/2*k*x^2 - m*x\n") ==
+          "m.lag:3:37: error: a term of the Lagrangian is not an energy: expected J = kg*m^2/s^2, found kg*m\n"
+          "    lagrangian 1/2*m*x'^2 - 1/2*k*x^2 - m*x\n                                        ^~~\n");
+    CHECK(diagnose("coordinates x [m]\nparameters m = 2 [kg], k = 1/2 [N/m]\nlagrangian 1/2*m*x'^2 - 1/2*k*(x^2 + x)\n") ==
+          "m.lag:3:38: error: '+' joins terms of different dimensions: m^2 and m\n"
+          "    lagrangian 1/2*m*x'^2 - 1/2*k*(x^2 + x)\n                                         ^\n");
+    CHECK(diagnose("coordinates x [m]\nparameters m = 2 [kg/]\nlagrangian 1/2*m*x'^2\n") ==
+          "m.lag:2:22: error: expected a unit name after '/'\n    parameters m = 2 [kg/]\n                         ^\n");
+    // accepted: derived units, 1/s, fractional powers through sqrt, 0 without a unit, rad,
+    // t in seconds, a parameter defined from others taking their dimension
+    CHECK(diagnose("coordinates x [m], th [rad]\n"
+                   "parameters m = 2 [kg], k = 8 [N/m], w = sqrt(k/m), P = 3 [W], f = 2 [Hz], I = 1/2*m*(1/10 [m])^2\n"
+                   "lagrangian 1/2*m*x'^2 - 1/2*k*x^2 + 1/2*I*th'^2 + P*t*cos(w*t) + 0*x\n"
+                   "dissipation P*sin(2*pi*f*t)\nforce x = 0\ninitial x = 1/10 [m], th' = 2 [1/s]\n") == "(accepted)");
+    // a file without units: nothing is checked (this L is no energy, and that is fine)
+    CHECK(diagnose("coordinates x\nlagrangian x'^2 + x\n") == "(accepted)");
+}

@@ -57,4 +57,17 @@ done
 "$lagc" "$models/double_pendulum.lag" --emit=eom --parts 2 >/dev/null 2>&1; [ $? -eq 2 ] && ok "--parts with --emit=eom: usage error" || bad "--parts with --emit=eom"
 "$lagc" "$models/double_pendulum.lag" -o "$work/p.cpp" --parts=3 && [ -s "$work/p.part2.cpp" ] && [ -s "$work/p.part3.cpp" ] \
   && [ ! -e "$work/p.part4.cpp" ] && ok "--parts=3: p.part2.cpp and p.part3.cpp beside p.cpp" || bad "--parts=3 files"
+# units cost nothing at run time: a model with units generates the same code as without them
+# (the file's name kept: the first line of each output names it)
+for m in bouncing_ball impact_oscillator; do
+  mkdir -p "$work/units" "$work/plain"
+  cp "$models/$m.lag" "$work/units/$m.lag"
+  sed 's/ \[[^]]*\]//g' "$models/$m.lag" > "$work/plain/$m.lag"
+  grep -q '\[' "$work/units/$m.lag" && ! grep -q '\[' "$work/plain/$m.lag" \
+    && (cd "$work/units" && "$lagc" $m.lag -o $m.cpp) && (cd "$work/plain" && "$lagc" $m.lag -o $m.cpp) \
+    && cmp -s "$work/units/$m.cpp" "$work/plain/$m.cpp" && cmp -s "$work/units/$m.hpp" "$work/plain/$m.hpp" \
+    && ok "units change no generated code ($m)" || bad "units change the generated code ($m)"
+done
+"$lagc" "$models/impact_oscillator.lag" --emit=latex | grep -q 'k = 1\\;\\mathrm{kg/s^{2}}' && ok "--emit=latex: the units of parameters" \
+  || bad "--emit=latex units"
 finish

@@ -19,6 +19,7 @@ struct Coordinate {
     std::string name;
     cas::Expr symbol;
     SourceSpan where;
+    std::string unit; ///< (v2) its dimension, "m" (empty: dimensionless, or a file without units)
 };
 
 struct Parameter {
@@ -35,6 +36,7 @@ struct Parameter {
     /// (v2) Declared by `input`: a parameter meant to change during a run; also listed in
     /// the generated input_names.
     bool input = false;
+    std::string unit; ///< (v2) its dimension, "kg*m^2" (empty: dimensionless, or a file without units)
 };
 
 /// (v2) `constraint NAME: A = B`: φ = A − B = 0 (lag-format.md, *Constraints*).

@@ -59,15 +59,22 @@ struct Unary : x3::position_tagged {
     Power power;
 };
 
+/// (v2) `[unit]` (lag-format.md, *Units*): the text between the brackets, as written.
+struct Unit : x3::position_tagged {
+    std::string text;
+};
+
 /// `* operand` or `/ operand`.
 struct ProductOp : x3::position_tagged {
     char op = '*';
     Unary operand;
 };
 
+/// A product, and (v2) the unit of a product of numbers: `9.81 [m/s^2]`, `1/2 [N/m]`.
 struct Product : x3::position_tagged {
     Unary first;
     std::vector<ProductOp> rest;
+    boost::optional<Unit> unit;
 };
 
 /// `+ operand` or `- operand`.
@@ -93,14 +100,20 @@ struct Binding : x3::position_tagged {
 struct ModelStmt : x3::position_tagged {
     Name name;
 };
+/// A coordinate and (v2) its unit: `x [m]`.
+struct CoordinateDecl : x3::position_tagged {
+    Name name;
+    boost::optional<Unit> unit;
+};
 struct CoordinatesStmt : x3::position_tagged {
-    std::vector<Name> names;
+    std::vector<CoordinateDecl> names;
 };
 struct ParametersStmt : x3::position_tagged {
     std::vector<Binding> items;
 };
 struct LetStmt : x3::position_tagged {
     Name name;
+    boost::optional<Unit> unit; ///< parsed to be rejected: a let takes its dimension from its value
     Expression value;
 };
 struct LagrangianStmt : x3::position_tagged {

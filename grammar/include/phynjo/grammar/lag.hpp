@@ -31,6 +31,9 @@ struct ParsedModel {
     /// The names a failed coordinates, parameters or let statement declares: a later stage
     /// does not report them as unknown.
     std::vector<std::string> failed_names;
+    /// (v2) True when the file carries a unit anywhere (a `[` outside comments): its
+    /// dimensions are then checked (lag-format.md, *Units*).
+    bool has_units = false;
 };
 
 /// Parses `text` (the whole file). `positions` must be constructed on the same text.
