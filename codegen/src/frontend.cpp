@@ -238,7 +238,7 @@ private:
             const auto& n = decl.name;
             const Expr sym = cas::symbol(n.text);
             if (declare(n, NameKind::Coordinate, sym)) {
-                model_.coordinates.push_back({n.text, sym, span(n)});
+                model_.coordinates.push_back({n.text, sym, span(n), {}});
                 if (units_) model_.coordinates.back().unit = record_dim(n.text, decl.unit ? units_->of(*decl.unit) : units::Dim{});
             }
         }
@@ -295,21 +295,28 @@ private:
             // an input's default is a number: the input itself is what changes
             const bool derived = !input && !cas::free_symbols(*v).empty();
             if (declare(b.name, NameKind::Parameter, sym)) {
-                model_.parameters.push_back({b.name.text, sym, exact, dflt, span(b.name), derived ? *v : Expr{}});
-                model_.parameters.back().input = input;
+                model_.parameters.push_back({b.name.text, sym, exact, dflt, span(b.name), derived ? *v : Expr{}, input, {}});
                 if (units_) model_.parameters.back().unit = record_dim(b.name.text, dim(b.value));
             }
         }
     }
 
+    /// False, after an error with a note to the first, when `items` (constraints, events)
+    /// already hold one named like `name`.
+    template <typename Items>
+    bool first_of_its_name(const Items& items, const grammar::ast::Name& name, const char* what) {
+        for (const auto& item : items)
+            if (item.name == name.text) {
+                error(span(name), std::string("a second ") + what + " named '" + name.text + "'");
+                note(item.where, std::string("the first ") + what + " '" + name.text + "' is here");
+                return false;
+            }
+        return true;
+    }
+
     void visit(const grammar::ast::ConstraintStmt& s) {
         const SourceSpan at = span(s.name);
-        for (const Constraint& c : model_.constraints)
-            if (c.name == s.name.text) {
-                error(at, "a second constraint named '" + s.name.text + "'");
-                note(c.where, "the first constraint '" + s.name.text + "' is here");
-                return;
-            }
+        if (!first_of_its_name(model_.constraints, s.name, "constraint")) return;
         auto a = expression(s.lhs);
         auto b = expression(s.rhs);
         if (!a || !b) return;
@@ -360,12 +367,7 @@ private:
     void visit(const grammar::ast::EventStmt& s) {
         const SourceSpan at = span(s.name);
         const std::string ev = "event '" + s.name.text + "'";
-        for (const Event& e : model_.events)
-            if (e.name == s.name.text) {
-                error(at, "a second event named '" + s.name.text + "'");
-                note(e.where, "the first event '" + s.name.text + "' is here");
-                return;
-            }
+        if (!first_of_its_name(model_.events, s.name, "event")) return;
         auto a = expression(s.lhs);
         auto b = expression(s.rhs);
         Event event{s.name.text, Expr{}, s.relation == '>' ? 1 : -1, {}, false, at};

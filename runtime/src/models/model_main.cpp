@@ -251,9 +251,13 @@ int model_main(int argc, char** argv, const ModelCommandLine& model) {
         std::fprintf(stderr, "%s: cannot write %s\n", argv[0], output.c_str());
         return 1;
     }
-    std::fprintf(out, "t");
-    for (const auto& n : sys.coordinate_names) std::fprintf(out, ",%s", n.c_str());
-    for (const auto& n : sys.coordinate_names) std::fprintf(out, ",%s'", n.c_str());
+    // `t` (and `,event`), then the coordinates and their velocities: both CSVs' header
+    auto state_header = [&](std::FILE* f, const char* first) {
+        std::fprintf(f, "%s", first);
+        for (const auto& n : sys.coordinate_names) std::fprintf(f, ",%s", n.c_str());
+        for (const auto& n : sys.coordinate_names) std::fprintf(f, ",%s'", n.c_str());
+    };
+    state_header(out, "t");
     std::fprintf(out, ",E");
     for (const auto& n : sys.constraint_names) std::fprintf(out, ",lambda_%s", n.c_str());
     std::fprintf(out, "\n");
@@ -354,9 +358,7 @@ int model_main(int argc, char** argv, const ModelCommandLine& model) {
             std::fprintf(stderr, "%s: cannot write %s\n", argv[0], events_output.c_str());
             return 1;
         }
-        std::fprintf(ev, "t,event");
-        for (const auto& n : sys.coordinate_names) std::fprintf(ev, ",%s", n.c_str());
-        for (const auto& n : sys.coordinate_names) std::fprintf(ev, ",%s'", n.c_str());
+        state_header(ev, "t,event");
         std::fprintf(ev, "\n");
         for (const EventRecord& r : monitor.log()) {
             std::fprintf(ev, "%.17g,%s", r.time, sys.event_names[r.event].c_str());
