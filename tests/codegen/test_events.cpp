@@ -38,7 +38,12 @@ Run run(const LagrangianSystem& s, const std::string& integrator, double t_end, 
     };
     if (integrator == "dopri") {
         DormandPrince45 dp(s, {.rtol = 1e-12, .atol = 1e-14});
-        drive([&](double target, double h) { dp.step(w, std::min(dp.next_dt() > 0 ? dp.next_dt() : h, target - w.time), target); });
+        const EventMonitor::Extension dense = [&](double t, std::span<double> q, std::span<double> v) { dp.dense(t, q, v); };
+        for (long k = 1; k <= steps && !r.stopped; ++k)
+            r.stopped = !advance_with_events(
+                monitor, w, static_cast<double>(k) * dt, dt,
+                [&](double target, double h) { dp.step(w, std::min(dp.next_dt() > 0 ? dp.next_dt() : h, target - w.time), target); },
+                &dense);
     } else if (integrator == "cvode") {
         Cvode cv(s, {.rtol = 1e-12, .atol = 1e-14});
         drive([&](double target, double) { cv.advance(w, target); });

@@ -1,6 +1,8 @@
 // Locating event crossings (models/crossing.hpp): the Illinois root finder against closed
-// forms, and the Hermite extension of a step against the exact harmonic oscillator.
+// forms, and the continuous extensions of a step (Hermite, Dormand–Prince dense output)
+// against the exact harmonic oscillator.
 #include "phynjo/runtime/core/errors.hpp"
+#include "phynjo/runtime/integrators/dormand_prince.hpp"
 #include "phynjo/runtime/models/crossing.hpp"
 
 #include <catch2/catch.hpp>
@@ -89,4 +91,42 @@ TEST_CASE("HermiteStep: exact ends, fourth-order accurate between them (harmonic
     CHECK((q[0] == 1.2 && q[1] == 1.9 && v[0] == 0.4 && v[1] == -0.9));
     CHECK_THROWS_AS(s.at(1.6, q, v), std::invalid_argument);
     CHECK_THROWS_AS(HermiteStep(1.0, 1.0, q0, v0, a0, q1, v1, a1), std::invalid_argument);
+}
+
+// Bugs caught: a wrong constant of Shampine's dense output (its order drops: the error
+// halves with h instead of falling 32-fold), the stages mixed up (k7 for k6), the output
+// not exact at the step's ends, the step's start forgotten after a rejected trial.
+TEST_CASE("Dormand-Prince dense output: exact at the ends, local error O(h^5) between them", "[runtime][events]") {
+    LagrangianSystem s; // q'' = -q: q = cos t, q' = -sin t
+    s.dof = 1;
+    s.coordinate_names = {"x"};
+    s.accelerations = [](double, std::span<const double> q, std::span<const double>, std::span<double> a) { a[0] = -q[0]; };
+    s.initial_state = [](std::span<double> q, std::span<double> v) {
+        q[0] = 1;
+        v[0] = 0;
+    };
+    auto error_at_mid = [&](double h) {
+        DormandPrince45 dp(s, {.rtol = 1, .atol = 1, .dt_min = 1e-12, .dt_max = 1}); // loose: every step accepted
+        World w = make_lagrangian_world(s);
+        CHECK_THROWS_AS(dp.dense(0, std::span<double>(), std::span<double>()), std::logic_error);
+        REQUIRE(dp.step(w, h, 1.0) == h);
+        double q = 0, v = 0;
+        dp.dense(0, {&q, 1}, {&v, 1});
+        CHECK(q == 1); // exactly y0 at the start
+        CHECK(v == 0);
+        dp.dense(h, {&q, 1}, {&v, 1});
+        CHECK(std::fabs(q - w.at(kGQ, 0)) < 1e-15); // and y1 at the end
+        CHECK(std::fabs(v - w.at(kGV, 0)) < 1e-15);
+        CHECK_THROWS_AS(dp.dense(2 * h, {&q, 1}, {&v, 1}), std::invalid_argument);
+        double worst = 0;
+        for (double th : {0.25, 0.5, 0.75}) {
+            dp.dense(th * h, {&q, 1}, {&v, 1});
+            worst = std::max({worst, std::fabs(q - std::cos(th * h)), std::fabs(v + std::sin(th * h))});
+        }
+        return worst;
+    };
+    const double e1 = error_at_mid(0.2), e2 = error_at_mid(0.1);
+    INFO("errors " << e1 << ", " << e2);
+    CHECK(e1 < 1e-6);
+    CHECK(e1 / e2 > 25); // 2^5 = 32 for a local error O(h^5)
 }

@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 namespace phynjo::runtime {
 
@@ -15,6 +17,20 @@ DormandPrince45::DormandPrince45(LagrangianSystem system, Options options) : sys
     tmp_.assign(m, 0.0);
     acc_.assign(sys_.dof, 0.0);
     for (auto& k : k_) k.assign(m, 0.0);
+    for (auto& r : rcont_) r.assign(m, 0.0);
+}
+
+void DormandPrince45::dense(double t, std::span<double> q, std::span<double> v) const {
+    if (dense_h_ <= 0) throw std::logic_error("DormandPrince45::dense: no step taken yet");
+    const double th = (t - dense_t0_) / dense_h_;
+    if (!(th >= -1e-12 && th <= 1 + 1e-12) || q.size() != sys_.dof || v.size() != sys_.dof)
+        throw std::invalid_argument("DormandPrince45::dense: t = " + std::to_string(t) + " outside the last step, or wrong sizes");
+    const double th1 = 1 - th;
+    const std::size_t n = sys_.dof;
+    for (std::size_t i = 0; i < 2 * n; ++i) {
+        const double y = rcont_[0][i] + th * (rcont_[1][i] + th1 * (rcont_[2][i] + th * (rcont_[3][i] + th1 * rcont_[4][i])));
+        (i < n ? q[i] : v[i - n]) = y;
+    }
 }
 
 double DormandPrince45::step(World& w, double dt, double t_end) {
@@ -69,6 +85,20 @@ double DormandPrince45::step(World& w, double dt, double t_end) {
         err = std::sqrt(err / static_cast<double>(m));
         const double factor = std::clamp(0.9 * std::pow(std::max(err, 1e-10), -0.2), 0.2, 5.0);
         if (err <= 1 && std::isfinite(err)) {
+            // the dense output (Hairer's DOPRI5, CONTD5), from y0, y1 = tmp_ and the stages
+            static constexpr double d1 = -12715105075.0 / 11282082432, d3 = 87487479700.0 / 32700410799,
+                                    d4 = -10690763975.0 / 1880347072, d5 = 701980252875.0 / 199316789632,
+                                    d6 = -1453857185.0 / 822651844, d7 = 69997945.0 / 29380423;
+            for (std::size_t i = 0; i < m; ++i) {
+                const double ydiff = tmp_[i] - y_[i], bspl = dt * k_[0][i] - ydiff;
+                rcont_[0][i] = y_[i];
+                rcont_[1][i] = ydiff;
+                rcont_[2][i] = bspl;
+                rcont_[3][i] = ydiff - dt * k_[6][i] - bspl;
+                rcont_[4][i] = dt * (d1 * k_[0][i] + d3 * k_[2][i] + d4 * k_[3][i] + d5 * k_[4][i] + d6 * k_[5][i] + d7 * k_[6][i]);
+            }
+            dense_t0_ = w.time;
+            dense_h_ = dt;
             for (Index i = 0; i < n; ++i) {
                 w.at(kGQ, i) = tmp_[i];
                 w.at(kGV, i) = tmp_[n + i];

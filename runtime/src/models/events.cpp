@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <string>
 
 namespace phynjo::runtime {
@@ -58,7 +59,7 @@ void EventMonitor::begin_step(const World& w) {
     for (std::size_t k = 0; k < ne_; ++k) arm_time_[k] = std::max(arm_time_[k], t0_);
 }
 
-EventStep EventMonitor::end_step(World& w) {
+EventStep EventMonitor::end_step(World& w, const Extension* extension) {
     EventStep out;
     if (ne_ == 0 || stopped_) return out;
     const double t1 = w.time;
@@ -95,10 +96,21 @@ EventStep EventMonitor::end_step(World& w) {
     }
     if (!any) return out;
 
-    // the crossings, on the step's Hermite extension
-    sys_.accelerations(t0_, q0_, v0_, a0_);
-    sys_.accelerations(t1, q1, v1, a1_);
-    const HermiteStep arc(t0_, t1, q0_, v0_, a0_, q1, v1, a1_);
+    // the crossings, on the integrator's extension of the step or its Hermite arc
+    std::optional<HermiteStep> hermite;
+    if (!extension) {
+        sys_.accelerations(t0_, q0_, v0_, a0_);
+        sys_.accelerations(t1, q1, v1, a1_);
+        hermite.emplace(t0_, t1, q0_, v0_, a0_, q1, v1, a1_);
+    }
+    struct Arc {
+        const Extension* extension;
+        const std::optional<HermiteStep>& hermite;
+        void at(double t, std::span<double> q, std::span<double> v) const {
+            if (extension) (*extension)(t, q, v);
+            else hermite->at(t, q, v);
+        }
+    } const arc{extension, hermite};
     double te = t1, bracket = opt_.time_tolerance;
     for (std::size_t k = 0; k < ne_; ++k) {
         if (!armed_[k] || resting_[k] || armed_side(k, g_[k])) continue;

@@ -289,12 +289,12 @@ int model_main(int argc, char** argv, const ModelCommandLine& model) {
         // step_to(target, h): one step of the integrator towards target, h long when the run
         // step is whole, and w.time where it ended. With events, the monitor watches every
         // such step; after an event the rest of the run step is taken from the event time.
-        auto advance = [&](auto&& step_to, long k, double target) {
+        auto advance = [&](auto&& step_to, long k, double target, const EventMonitor::Extension* extension = nullptr) {
             const double h = k <= steps ? dt : last;
             if (!with_events) {
                 step_to(target, h);
                 w.time = target;
-            } else if (!advance_with_events(monitor, w, target, h, step_to)) {
+            } else if (!advance_with_events(monitor, w, target, h, step_to, extension)) {
                 row(); // stopped by an event: the state at it is the last row
                 return false;
             }
@@ -331,8 +331,10 @@ int model_main(int argc, char** argv, const ModelCommandLine& model) {
                 do h = dp.step(w, std::min(dp.next_dt() > 0 ? dp.next_dt() : h, target - w.time), target);
                 while (!with_events && w.time < target - 1e-12 * dt);
             };
+            // events are located on its dense output
+            const EventMonitor::Extension dense = [&](double t, std::span<double> q, std::span<double> v) { dp.dense(t, q, v); };
             for (long k = 1; k <= total; ++k)
-                if (!advance(step_to, k, target_of(k))) break;
+                if (!advance(step_to, k, target_of(k), &dense)) break;
         } else {
             Stepper stepper(integrator == "rk4"        ? lagrangian_rk4(sys, w.layout_ptr(), projection)
                             : integrator == "midpoint" ? lagrangian_midpoint(sys, w.layout_ptr(), projection)

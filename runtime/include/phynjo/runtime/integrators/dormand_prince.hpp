@@ -5,6 +5,7 @@
 #include "phynjo/runtime/models/constraint_projection.hpp"
 
 #include <cstddef>
+#include <span>
 #include <vector>
 
 namespace phynjo::runtime {
@@ -29,6 +30,12 @@ public:
     /// The step proposed for the next call.
     [[nodiscard]] double next_dt() const noexcept { return next_; }
     [[nodiscard]] std::size_t rejected() const noexcept { return rejected_; }
+    /// The continuous extension of the last accepted step (Shampine's dense output of
+    /// order 4, as in Hairer's DOPRI5: L. F. Shampine, Math. Comp. 46, 135 (1986)): (q, q')
+    /// at time t in [t0, t0 + h] of that step, before any projection. What events are
+    /// located on (models/events.hpp). std::logic_error before the first step,
+    /// std::invalid_argument outside the step.
+    void dense(double t, std::span<double> q, std::span<double> v) const;
 
 private:
     LagrangianSystem sys_;
@@ -36,6 +43,8 @@ private:
     double next_ = 0;
     std::size_t rejected_ = 0;
     std::vector<double> y_, k_[7], tmp_, acc_;
+    double dense_t0_ = 0, dense_h_ = 0;
+    std::vector<double> rcont_[5]; ///< the dense output's coefficients, 2·dof each
 };
 
 } // namespace phynjo::runtime

@@ -9,8 +9,11 @@
 /// - **Crossing.** Event k fires when its guard g_k passes from its *armed side* (g > 0 for
 ///   `A < B`, g < 0 for `A > B`) to the other side (or onto 0). After each step the guards
 ///   are evaluated at its end; an armed guard that is no longer on its armed side has
-///   crossed. Where: the cubic Hermite extension of the step (HermiteStep, from the states
-///   and accelerations at both ends) and the Illinois root finder (locate_crossing) to
+///   crossed. Where: on the integrator's continuous extension — Dormand–Prince's dense
+///   output, or for the others the cubic Hermite arc of the step (HermiteStep, from the
+///   states and accelerations at both ends: O(h⁴), the order of RK4; for CVODE and IDA the
+///   step is the run's, between two of their interpolated outputs) — by the Illinois root
+///   finder (locate_crossing) to
 ///   `time_tolerance`. The event time is the first time known to be across (so the guard is
 ///   across after the event), never the end of the step. A guard that crosses and crosses
 ///   back within one step is not seen (as in every integrator that checks signs at steps).
@@ -85,9 +88,13 @@ public:
     /// Before the integrator advances `w`: remembers its time and state. The first call arms
     /// the events whose guards are on their armed side.
     void begin_step(const World& w);
+    /// An integrator's own continuous extension of the step just taken: (q, q') at t.
+    using Extension = std::function<void(double t, std::span<double> q, std::span<double> qdot)>;
     /// After the integrator advanced `w` (w.time its new time): locates, applies, logs.
-    /// Throws ZenoError (see the rules above); the world is then at the last event.
-    EventStep end_step(World& w);
+    /// Crossings are located on `extension` when given (DormandPrince45::dense), else on
+    /// the cubic Hermite arc of the step. Throws ZenoError (see the rules above); the world
+    /// is then at the last event.
+    EventStep end_step(World& w, const Extension* extension = nullptr);
 
     [[nodiscard]] const std::vector<EventRecord>& log() const noexcept { return log_; }
     [[nodiscard]] bool stopped() const noexcept { return stopped_; }
@@ -139,15 +146,17 @@ EventRule model_events_rule(std::string name, const LagrangianSystem& system, st
 /// has fired in this step of the run, the rest of it after one), and leaves w.time where it
 /// ended (an adaptive integrator may end short of target: it is called again). Ends with
 /// w.time = target exactly and returns true, or returns false when a `stop` event ended the
-/// run (w at the event). Throws what end_step throws (ZenoError).
+/// run (w at the event). `extension`: the integrator's continuous extension, when it has
+/// one (end_step). Throws what end_step throws (ZenoError).
 template <typename StepTo>
-bool advance_with_events(EventMonitor& monitor, World& w, double target, double h, StepTo&& step_to) {
+bool advance_with_events(EventMonitor& monitor, World& w, double target, double h, StepTo&& step_to,
+                         const EventMonitor::Extension* extension = nullptr) {
     monitor.begin_run_step(h);
     bool whole = true;
     while (w.time < target - 1e-12 * h) {
         monitor.begin_step(w);
         step_to(target, whole ? h : target - w.time);
-        const EventStep e = monitor.end_step(w);
+        const EventStep e = monitor.end_step(w, extension);
         if (e.stopped) return false;
         whole = whole && !e.fired;
     }
