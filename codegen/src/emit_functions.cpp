@@ -238,10 +238,9 @@ std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const N
                 at = end + 1;
             }
             s << indented;
+            // the body loaded every variable it reads first: storing now cannot change a right side
             for (std::size_t r = 0; r < e.resets.size(); ++r)
-                s << "        const double reset" << r << " = " << res[r] << ";\n";
-            for (std::size_t r = 0; r < e.resets.size(); ++r)
-                s << "        " << (e.resets[r].velocity ? "qdot[" : "q[") << e.resets[r].coordinate << "] = reset" << r
+                s << "        " << (e.resets[r].velocity ? "qdot[" : "q[") << e.resets[r].coordinate << "] = " << res[r]
                   << "; // " << m.coordinates[e.resets[r].coordinate].name << (e.resets[r].velocity ? "'" : "") << "\n";
         }
         s << "        return;\n    }\n";

@@ -43,11 +43,11 @@ void EventMonitor::begin_run_step(double dt) {
 }
 
 void EventMonitor::begin_step(const World& w) {
+    if (ne_ == 0) return; // nothing to watch: no copy in the step
     t0_ = w.time;
     const auto q = w.field(kGQ), v = w.field(kGV);
     std::copy(q.begin(), q.end(), q0_.begin());
     std::copy(v.begin(), v.end(), v0_.begin());
-    if (ne_ == 0) return;
     if (!started_) {
         started_ = true;
         sys_.event_guards(t0_, q0_, v0_, g_);
@@ -103,19 +103,15 @@ EventStep EventMonitor::end_step(World& w, const Extension* extension) {
         sys_.accelerations(t1, q1, v1, a1_);
         hermite.emplace(t0_, t1, q0_, v0_, a0_, q1, v1, a1_);
     }
-    struct Arc {
-        const Extension* extension;
-        const std::optional<HermiteStep>& hermite;
-        void at(double t, std::span<double> q, std::span<double> v) const {
-            if (extension) (*extension)(t, q, v);
-            else hermite->at(t, q, v);
-        }
-    } const arc{extension, hermite};
+    auto arc_at = [&](double t, std::span<double> q, std::span<double> v) {
+        if (extension) (*extension)(t, q, v);
+        else hermite->at(t, q, v);
+    };
     double te = t1, bracket = opt_.time_tolerance;
     for (std::size_t k = 0; k < ne_; ++k) {
         if (!armed_[k] || resting_[k] || armed_side(k, g_[k])) continue;
         auto guard = [&](double t) {
-            arc.at(t, qe_, ve_);
+            arc_at(t, qe_, ve_);
             sys_.event_guards(t, qe_, ve_, g_left_);
             return g_left_[k];
         };
@@ -133,7 +129,7 @@ EventStep EventMonitor::end_step(World& w, const Extension* extension) {
         }
     }
     // the state at t_e, and who fires: every armed event across there
-    arc.at(te, qe_, ve_);
+    arc_at(te, qe_, ve_);
     sys_.event_guards(te, qe_, ve_, g_);
     bool stop = false, fired_any = false;
     for (std::size_t k = 0; k < ne_; ++k) {
@@ -234,16 +230,12 @@ EventRule model_events_rule(std::string name, const LagrangianSystem& system, st
     if (flags.size() != system.n_events)
         throw std::invalid_argument("model_events_rule: " + std::to_string(flags.size()) + " flags for " +
                                     std::to_string(system.n_events) + " events");
-    std::vector<Index> idx(flags.begin(), flags.end());
-    const ComponentSet domain{std::vector<Index>(idx)};
-    if (domain.indices().size() != idx.size()) throw std::invalid_argument("model_events_rule: a flag given for two events");
-    // the slice is in the order of domain.indices(): name each position by its event
-    std::vector<std::pair<Index, std::string>> named;
-    for (std::size_t k = 0; k < idx.size(); ++k) named.emplace_back(idx[k], system.event_names[k]);
+    const ComponentSet domain{std::vector<Index>(flags.begin(), flags.end())};
+    if (domain.indices().size() != flags.size()) throw std::invalid_argument("model_events_rule: a flag given for two events");
+    // the slice is in the order of domain.indices() (ascending): each position's flag and event
     std::vector<std::pair<Index, std::string>> by_slot;
-    for (Index i : domain.indices())
-        for (const auto& [flag, event] : named)
-            if (flag == i) by_slot.emplace_back(i, event);
+    for (std::size_t k = 0; k < flags.size(); ++k) by_slot.emplace_back(flags[k], system.event_names[k]);
+    std::sort(by_slot.begin(), by_slot.end());
     return EventRule{std::move(name), domain, {},
                      [](const FlagLit&, std::span<std::uint8_t> out) { std::fill(out.begin(), out.end(), 0); },
                      [by_slot](std::uint64_t tick, std::span<const std::uint8_t> slice, Phenomenon& events) {
