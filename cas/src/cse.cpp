@@ -2,6 +2,7 @@
 
 #include "phynjo/cas/transform.hpp"
 
+#include <algorithm>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -24,7 +25,119 @@ bool trivial(Expr x) {
 }
 } // namespace
 
+namespace {
+
+/// x = y + (the rest of x's terms), y an Add of the same DAG whose terms are some of x's.
+struct PartialSum {
+    const Node* y = nullptr;
+    std::vector<std::uint32_t> rest; ///< indices of x's terms not in y
+    bool constant = false;           ///< x's constant term is not in y
+};
+
+std::uint64_t term_hash(Expr coef, Expr arg) noexcept {
+    std::uint64_t h = coef.hash() * 0x9E3779B97F4A7C15ULL ^ (arg.is_null() ? 0x51ED270B27A2F5C3ULL : arg.hash());
+    h ^= h >> 29;
+    h *= 0xBF58476D1CE4E5B9ULL;
+    return h ^ (h >> 32);
+}
+
+/// The partial sums to share: for each Add x of `nodes` with three terms or more, an Add y
+/// among `nodes` with all but one or two of x's terms (the largest such y), so that x is
+/// computed as y plus one or two terms. A chain's sums (the velocity of link k of a
+/// pendulum: q0' − Σ_{j≤k} l_j q_j' cos q_j) then cost O(1) each instead of O(k). Term
+/// sets are compared by an additive hash of their terms, so dropping a term is a
+/// subtraction; a hit is verified term by term. Deterministic: structural hashes only.
+std::unordered_map<const Node*, PartialSum> partial_sums(const std::vector<Expr>& nodes) {
+    std::unordered_map<const Node*, PartialSum> out;
+    auto terms = [](Expr x) { return x->nargs + (x->number.is_zero() ? 0u : 1u); };
+    // term k of an Add: (coef, arg) for k < nargs, (constant, null) for k == nargs
+    auto term = [](Expr x, std::uint32_t k) -> std::uint64_t {
+        return k < x->nargs ? term_hash(x->coefs[k], x.args()[k]) : term_hash(x->number, Expr());
+    };
+    std::unordered_map<std::uint64_t, std::vector<const Node*>> by_hash;
+    std::unordered_map<const Node*, std::uint64_t> set_hash;
+    for (Expr x : nodes) {
+        if (x.kind() != Kind::Add) continue;
+        std::uint64_t h = 0;
+        for (std::uint32_t k = 0, m = terms(x); k < m; ++k) h += term(x, k);
+        set_hash.emplace(x.get(), h);
+        by_hash[h].push_back(x.get());
+    }
+    // Does y have exactly x's terms but those at `drop` (sorted; x = y + the dropped terms)?
+    // Both lists are in the canonical order, so the comparison is one pass.
+    auto matches = [&](Expr x, Expr y, const std::uint32_t* drop, std::size_t nd) {
+        if (terms(y) + nd != terms(x)) return false;
+        bool drops_constant = false;
+        std::uint32_t j = 0;
+        std::size_t d = 0;
+        for (std::uint32_t k = 0; k < x->nargs; ++k) {
+            if (d < nd && drop[d] == k) {
+                ++d;
+                continue;
+            }
+            if (j >= y->nargs || y->coefs[j] != x->coefs[k] || y.args()[j] != x.args()[k]) return false;
+            ++j;
+        }
+        if (d < nd && drop[d] == x->nargs) drops_constant = true;
+        return j == y->nargs && (drops_constant ? y->number.is_zero() : y->number == x->number);
+    };
+    for (Expr x : nodes) {
+        if (x.kind() != Kind::Add) continue;
+        const std::uint32_t m = terms(x);
+        if (m < 3) continue;
+        const std::uint64_t h = set_hash.at(x.get());
+        auto find = [&](std::uint64_t key, const std::uint32_t* drop, std::size_t nd) -> bool {
+            const auto it = by_hash.find(key);
+            if (it == by_hash.end()) return false;
+            for (const Node* y : it->second)
+                if (matches(x, Expr(y), drop, nd)) {
+                    PartialSum& p = out[x.get()];
+                    p.y = y;
+                    for (std::uint32_t k = 0; k < x->nargs; ++k)
+                        if (std::find(drop, drop + nd, k) != drop + nd) p.rest.push_back(k);
+                    p.constant = std::find(drop, drop + nd, x->nargs) != drop + nd;
+                    return true;
+                }
+            return false;
+        };
+        bool found = false;
+        for (std::uint32_t i = 0; i < m && !found; ++i) found = find(h - term(x, i), &i, 1);
+        for (std::uint32_t i = 0; i < m && !found && m <= 48; ++i)
+            for (std::uint32_t j = i + 1; j < m && !found && m > 3; ++j) {
+                const std::uint32_t drop[2] = {i, j};
+                found = find(h - term(x, i) - term(x, j), drop, 2);
+            }
+    }
+    return out;
+}
+
+} // namespace
+
 CseResult cse(std::span<const Expr> outputs, const CseOptions& options) {
+    // 0. Partial sums: which sums are computed from others (extra edges x → y of the DAG).
+    std::unordered_map<const Node*, PartialSum> sums;
+    if (options.share_partial_sums) {
+        std::vector<Expr> nodes;
+        std::unordered_set<const Node*> seen;
+        auto visit = [&](auto&& self, Expr x) -> void {
+            if (!seen.insert(x.get()).second) return;
+            for (Expr c : x.args()) self(self, c);
+            nodes.push_back(x);
+        };
+        for (Expr o : outputs) visit(visit, o);
+        sums = partial_sums(nodes);
+    }
+    // the children of x in the computation: a shared partial sum's y and its other terms' args
+    auto for_children = [&](Expr x, auto&& f) {
+        if (x.kind() == Kind::Add) {
+            if (const auto it = sums.find(x.get()); it != sums.end()) {
+                f(Expr(it->second.y));
+                for (std::uint32_t k : it->second.rest) f(x.args()[k]);
+                return;
+            }
+        }
+        for (Expr c : x.args()) f(c);
+    };
     // 1. Post-order of the DAG and the number of parents of each node.
     std::unordered_map<const Node*, int> uses;
     std::vector<Expr> post;
@@ -33,10 +146,10 @@ CseResult cse(std::span<const Expr> outputs, const CseOptions& options) {
         std::unordered_set<const Node*> visited;
         auto visit = [&](auto&& self, Expr x) -> void {
             if (!visited.insert(x.get()).second) return;
-            for (Expr c : x.args()) {
+            for_children(x, [&](Expr c) {
                 ++uses[c.get()];
                 self(self, c);
-            }
+            });
             if (options.hoist_power_bases && x.kind() == Kind::Pow && x.args()[1].is_integer() &&
                 !trivial(x.args()[0]))
                 hoist.insert(x.args()[0].get());
@@ -72,7 +185,12 @@ CseResult cse(std::span<const Expr> outputs, const CseOptions& options) {
     };
     for (Expr x : post) {
         Expr r = x;
-        if (x->nargs) {
+        if (const auto it = sums.find(x.get()); it != sums.end()) {
+            std::vector<Expr> ts{ref(Expr(it->second.y))};
+            for (std::uint32_t k : it->second.rest) ts.push_back(mul({x->coefs[k], ref(x.args()[k])}));
+            if (it->second.constant) ts.push_back(x->number);
+            r = add(ts);
+        } else if (x->nargs) {
             std::vector<Expr> a;
             a.reserve(x->nargs);
             bool same = true;

@@ -153,6 +153,7 @@ std::optional<EquationsOfMotion> derive_impl(const Model& model, grammar::Diagno
     eom.mass_matrix.resize(n * n);
     eom.forcing.resize(n);
     eom.generalized_forces.resize(n);
+    eom.nonconservative_forces.resize(n);
     std::vector<Expr> raw_p(n);
     for (std::size_t i = 0; i < n; ++i) {
         raw_p[i] = cas::diff(L, qd[i]);
@@ -177,6 +178,7 @@ std::optional<EquationsOfMotion> derive_impl(const Model& model, grammar::Diagno
     for (std::size_t i = 0; i < n; ++i) {
         std::vector<Expr> terms{cas::diff(L, q[i]), model.forces[i], -cas::diff(model.dissipation, qd[i])};
         eom.generalized_forces[i] = tidy(cas::add(terms));
+        eom.nonconservative_forces[i] = tidy(cas::add(std::span(terms).subspan(1)));
         for (std::size_t j = 0; j < n; ++j) {
             const Expr d = cas::diff(raw_p[i], q[j]);
             if (!d.is_zero()) terms.push_back(-(d * qd[j]));
@@ -261,9 +263,22 @@ void derive_jacobians(const Model& model, EquationsOfMotion& eom) {
             // ∂p/∂q' is M, already derived
             eom.momenta_jacobian[i * 2 * n + j] =
                 j < n ? cas::diff(eom.momenta[i], y[j]) : eom.mass_matrix[i * n + (j - n)];
-            eom.force_jacobian[i * 2 * n + j] = cas::diff(eom.generalized_forces[i], y[j]);
         }
         for (std::size_t k = 0; k < m; ++k) eom.jacobian_c[k * 2 * n + j] = cas::diff(c[k], y[j]);
+    }
+    // ∂F/∂y with F = ∂L/∂q + N (N the non-conservative part), from the symmetry of the
+    // second derivatives of L: ∂²L/∂q_i∂q_j is derived once for j ≥ i, and ∂²L/∂q_i∂q'_j is
+    // ∂p_j/∂q_i, derived just above. Half the entries of differentiating F whole, and the
+    // two halves of a symmetric block print as one expression (nlink_cart(40):
+    // bench/RESULTS.md). Exact either way: the expressions differ, not the functions.
+    auto fj = [&](std::size_t i, std::size_t j) -> Expr& { return eom.force_jacobian[i * 2 * n + j]; };
+    for (std::size_t i = 0; i < n; ++i) {
+        const Expr N = eom.nonconservative_forces[i];
+        for (std::size_t j = i; j < n; ++j) fj(i, j) = cas::diff(eom.generalized_forces[i], y[j]);
+        for (std::size_t j = 0; j < i; ++j) // ∂F_i/∂q_j = ∂F_j/∂q_i − ∂N_j/∂q_i + ∂N_i/∂q_j
+            fj(i, j) = cas::add(std::vector<Expr>{fj(j, i), -cas::diff(eom.nonconservative_forces[j], y[i]), cas::diff(N, y[j])});
+        for (std::size_t j = 0; j < n; ++j)
+            fj(i, n + j) = cas::add(std::vector<Expr>{eom.momenta_jacobian[j * 2 * n + i], cas::diff(N, y[n + j])}); // ∂p_j/∂q_i + ∂N_i/∂q_j'
     }
     // Inputs (a parameter's value cannot depend on one, so ∂/∂u is the whole derivative).
     std::vector<Expr> inputs;

@@ -25,6 +25,10 @@ struct CseOptions {
     /// Also give a temporary to every compound base of an integer power, so that a printer
     /// can write `t*t` instead of calling pow.
     bool hoist_power_bases = false;
+    /// Compute a sum from another sum of the same DAG that has all but one or two of its
+    /// terms: x = y + t (the partial sums of a chain cost one addition each). The outputs
+    /// are the same expressions; only the temporaries differ.
+    bool share_partial_sums = true;
 };
 
 /// Every compound subexpression used more than once in the DAG of `outputs` gets a

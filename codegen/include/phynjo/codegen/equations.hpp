@@ -25,6 +25,9 @@ struct EquationsOfMotion {
     /// ∂L/∂q_i + Q_i − ∂R/∂q_i': the right side of p_i' in canonical form (for integrators
     /// that work with (q, p)).
     std::vector<cas::Expr> generalized_forces;
+    /// Q_i − ∂R/∂q_i': the part of F that is not ∂L/∂q_i (zero for a conservative model).
+    /// derive_jacobians uses it to take ∂F/∂y from the symmetry of ∂²L (see there).
+    std::vector<cas::Expr> nonconservative_forces;
 
     // (v2) Constraints, file order (lag-format.md, *Constraints*): M q'' = f + Gᵀλ, G q'' = γ.
     std::size_t n_constraints = 0;

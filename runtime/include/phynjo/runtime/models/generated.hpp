@@ -9,4 +9,5 @@
 #include "phynjo/runtime/integrators/lagrangian_rattle.hpp"
 #include "phynjo/runtime/integrators/lagrangian_rk4.hpp"
 #include "phynjo/runtime/models/events.hpp"
+#include "phynjo/runtime/models/generated_functions.hpp"
 #include "phynjo/runtime/models/lagrangian_system.hpp"
