@@ -47,14 +47,17 @@ using Fn = std::function<void(double, std::span<const double>, std::span<const d
 struct Spec {
     std::string name;
     std::size_t n = 0, inputs = 0;
-    Fn accelerations, rhs_jacobian, input_jacobian;
+    Fn accelerations, rhs_jacobian, input_jacobian, momenta, generalized_forces;
+    std::function<void(double, std::span<const double>, std::span<const double>, std::span<double>, std::span<double>,
+                       std::span<double>, std::span<double>)>
+        canonical_jacobian;
     std::function<void(std::span<double>, std::span<double>)> initial_state;
     std::function<double&(std::size_t)> input; ///< the k-th input's field of the model's Parameters
 };
 
 template <typename Params, typename... Members>
 Spec make_spec(std::string name, std::size_t n, std::size_t inputs, auto acc, auto jac, auto ijac, auto init,
-               Members... members) {
+               auto mom, auto gf, auto cj, Members... members) {
     auto P = std::make_shared<Params>();
     Spec s;
     s.name = std::move(name);
@@ -64,6 +67,9 @@ Spec make_spec(std::string name, std::size_t n, std::size_t inputs, auto acc, au
     s.rhs_jacobian = [=](double t, auto q, auto v, auto out) { jac(*P, t, q, v, out); };
     s.input_jacobian = [=](double t, auto q, auto v, auto out) { ijac(*P, t, q, v, out); };
     s.initial_state = [=](auto q, auto v) { init(*P, q, v); };
+    s.momenta = [=](double t, auto q, auto v, auto out) { mom(*P, t, q, v, out); };
+    s.generalized_forces = [=](double t, auto q, auto v, auto out) { gf(*P, t, q, v, out); };
+    s.canonical_jacobian = [=](double t, auto q, auto v, auto p, auto F, auto dp, auto dF) { cj(*P, t, q, v, p, F, dp, dF); };
     s.input = [=](std::size_t k) -> double& {
         double Params::* const m[] = {members..., nullptr};
         return (*P).*m[k];
@@ -73,7 +79,8 @@ Spec make_spec(std::string name, std::size_t n, std::size_t inputs, auto acc, au
 
 #define PHYNJO_SPEC(ns, ...)                                                                                            \
     make_spec<ns::Parameters>(#ns, ns::dof, ns::n_inputs, ns::accelerations, ns::rhs_jacobian, ns::input_jacobian,     \
-                              ns::initial_state __VA_OPT__(, ) __VA_ARGS__)
+                              ns::initial_state, ns::momenta, ns::generalized_forces,                                 \
+                              ns::canonical_jacobian __VA_OPT__(, ) __VA_ARGS__)
 
 std::vector<Spec> all_models() {
     return {PHYNJO_SPEC(pendulum),
@@ -116,6 +123,8 @@ std::vector<double> central_difference(G&& g, double h) {
 /// to max(1, the largest entry), over `samples` random states near the initial state.
 struct Errors {
     double rhs = 0, input = 0;
+    double canonical = 0; ///< dp, dF of canonical_jacobian against differences of momenta and generalized_forces
+    double canonical_values = 0; ///< its p and F against momenta and generalized_forces
     int states = 0;
 };
 
@@ -176,6 +185,33 @@ Errors compare_with_differences(Spec& s, int samples, std::uint64_t seed) {
                 h);
             for (std::size_t i = 0; i < N; ++i) e.input = std::max(e.input, std::fabs(B[i * K + k] - d[i]) / bscale);
         }
+        // canonical_jacobian: dp = ∂p/∂y, dF = ∂F/∂y (n × 2n each)
+        std::vector<double> p(n), F(n), dp(n * N), dF(n * N), p_ref(n), F_ref(n);
+        const auto q = std::span(y).first(n), v = std::span(y).subspan(n);
+        s.canonical_jacobian(t, q, v, p, F, dp, dF);
+        s.momenta(t, q, v, p_ref);
+        s.generalized_forces(t, q, v, F_ref);
+        double cscale = 1;
+        for (double x : dp) cscale = std::max(cscale, std::fabs(x));
+        for (double x : dF) cscale = std::max(cscale, std::fabs(x));
+        for (std::size_t i = 0; i < n; ++i)
+            e.canonical_values = std::max({e.canonical_values, std::fabs(p[i] - p_ref[i]) / std::max(1.0, std::fabs(p_ref[i])),
+                                           std::fabs(F[i] - F_ref[i]) / std::max(1.0, std::fabs(F_ref[i]))});
+        for (std::size_t j = 0; j < N; ++j) {
+            const double h = 1e-4 * std::max(1.0, std::fabs(y[j]));
+            auto pf = [&](double dx) {
+                auto yy = y;
+                yy[j] += dx;
+                std::vector<double> out(2 * n);
+                s.momenta(t, std::span(yy).first(n), std::span(yy).subspan(n), std::span(out).first(n));
+                s.generalized_forces(t, std::span(yy).first(n), std::span(yy).subspan(n), std::span(out).subspan(n));
+                return out;
+            };
+            const auto d = central_difference(pf, h);
+            for (std::size_t i = 0; i < n; ++i)
+                e.canonical = std::max({e.canonical, std::fabs(dp[i * N + j] - d[i]) / cscale,
+                                        std::fabs(dF[i * N + j] - d[n + i]) / cscale});
+        }
         ++e.states;
     }
     return e;
@@ -195,6 +231,20 @@ TEST_CASE("rhs_jacobian and input_jacobian = central differences of acceleration
         CHECK(e.states >= 3);
         CHECK(e.rhs < 1e-7);
         CHECK(e.input < 1e-7);
+    }
+}
+
+// Bugs caught: ∂F/∂q taken as symmetric when the non-conservative forces are not (functions:
+// force x depends on y, force y not on x; driven: a dissipation with an input), ∂F/∂q'
+// taken as (∂p/∂q)ᵀ without ∂N/∂q', a transposed block of dp or dF, p and F of
+// canonical_jacobian not those of momenta and generalized_forces.
+TEST_CASE("canonical_jacobian = central differences of momenta and generalized_forces, every model", "[codegen][jacobians]") {
+    for (Spec& s : all_models()) {
+        INFO(s.name);
+        const Errors e = compare_with_differences(s, 6, 20261202);
+        CHECK(e.states >= 3);
+        CHECK(e.canonical < 1e-7);
+        CHECK(e.canonical_values < 1e-13);
     }
 }
 
