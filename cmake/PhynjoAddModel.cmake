@@ -42,4 +42,8 @@ function(phynjo_add_model)
   target_compile_features(${PHYNJO_TARGET} PUBLIC cxx_std_20)
   # the contract: the generated pair compiles warning-free
   target_compile_options(${PHYNJO_TARGET} PRIVATE -Wall -Wextra -Werror)
+  # GCC's SLP vectorizer is the costliest -O2/-O3 pass on long straight-line bodies and buys
+  # them next to nothing (nlink_cart(40): 23.2 -> 20.2 s of build on two cores; nlink_cart(10)'s
+  # functions within +-3% at run time; bench/RESULTS.md)
+  target_compile_options(${PHYNJO_TARGET} PRIVATE $<$<CXX_COMPILER_ID:GNU>:-fno-tree-slp-vectorize>)
 endfunction()

@@ -65,20 +65,20 @@ std::uint64_t hash_of(const NodeKey& k) noexcept {
     return h;
 }
 
-PoolImpl::PoolImpl(std::uint32_t id_) : id(id_) { table.assign(1 << 14, nullptr); }
+PoolImpl::PoolImpl(std::uint32_t id_) : id(id_) { table.assign(1 << 14, Slot{}); }
 
 PoolImpl::~PoolImpl() {
     for (mpq_class* q : big_numbers) q->~mpq_class();
 }
 
 void PoolImpl::grow() {
-    std::vector<const Node*> bigger(table.size() * 2, nullptr);
+    std::vector<Slot> bigger(table.size() * 2, Slot{});
     const std::size_t mask = bigger.size() - 1;
-    for (const Node* n : table) {
-        if (!n) continue;
-        std::size_t i = n->hash & mask;
-        while (bigger[i]) i = (i + 1) & mask;
-        bigger[i] = n;
+    for (const Slot& s : table) {
+        if (!s.node) continue;
+        std::size_t i = s.hash & mask;
+        while (bigger[i].node) i = (i + 1) & mask;
+        bigger[i] = s;
     }
     table.swap(bigger);
 }
@@ -128,15 +128,15 @@ const Node* PoolImpl::intern(NodeKey& k) {
     k.hash = hash_of(k);
     std::size_t mask = table.size() - 1;
     std::size_t i = k.hash & mask;
-    while (const Node* n = table[i]) {
-        if (equal(k, *n)) return n;
+    while (const Node* n = table[i].node) {
+        if (table[i].hash == k.hash && equal(k, *n)) return n;
         i = (i + 1) & mask;
     }
     if (count >= node_limit)
         throw LimitError("expression too large: more than " + std::to_string(node_limit) +
                          " distinct subexpressions");
     const Node* n = make(k);
-    table[i] = n;
+    table[i] = Slot{k.hash, n};
     if (++count * 2 > table.size()) grow();
     return n;
 }
@@ -158,7 +158,7 @@ Pool& Pool::current() {
 std::size_t Pool::size() const noexcept { return impl_->count; }
 std::size_t Pool::bytes() const noexcept {
     // monotonic_buffer_resource does not report usage; approximate by node count.
-    return impl_->count * (sizeof(Node) + 2 * sizeof(Expr)) + impl_->table.size() * sizeof(void*);
+    return impl_->count * (sizeof(Node) + 2 * sizeof(Expr)) + impl_->table.size() * sizeof(detail::PoolImpl::Slot);
 }
 std::uint32_t Pool::id() const noexcept { return impl_->id; }
 void Pool::set_node_limit(std::size_t n) noexcept { impl_->node_limit = n; }

@@ -51,7 +51,13 @@ struct PoolImpl {
 
     std::uint32_t id;
     std::pmr::monotonic_buffer_resource arena{1 << 16};
-    std::vector<const Node*> table; // open addressing, power-of-two capacity, linear probing
+    /// A slot of the intern table: the node's hash beside it, so that a probe past another
+    /// node compares two integers instead of loading that node (a cache miss).
+    struct Slot {
+        std::uint64_t hash = 0;
+        const Node* node = nullptr;
+    };
+    std::vector<Slot> table; // open addressing, power-of-two capacity, linear probing
     std::size_t count = 0;
     std::size_t node_limit = limits::max_nodes;
     std::uint64_t work = 0; ///< terms and factors processed by add and mul

@@ -32,7 +32,11 @@ std::string loads(const Names& names, const cas::CseResult& r, bool& uses_t, boo
     return s;
 }
 
-constexpr std::size_t kChunkStatements = 250;
+/// Statements a piece: smaller pieces compile faster (nlink_cart(40)'s canonical_jacobian:
+/// 13.1 s of g++ in pieces of 250, 10.1 s in pieces of 64) and run within a few per cent.
+constexpr std::size_t kChunkStatements = 64;
+/// Arrays of fewer entries than this are written as one initializer or one statement each.
+constexpr std::size_t kInlineEntries = 250;
 
 /// Statements wrapped in pieces of kChunkStatements, each a lambda called at once that the
 /// compiler may not inline: each piece is optimized (register allocation, SLP
@@ -182,7 +186,7 @@ void body_split(const Names& names, const std::vector<Expr>& outputs, const std:
 std::string array_of(const std::string& name, const std::vector<std::string>& entries) {
     if (auto first = consecutive(entries)) return "    const double* " + name + " = " + *first + ";\n";
     std::string s;
-    if (entries.size() < kChunkStatements) {
+    if (entries.size() < kInlineEntries) {
         s = "    const double " + name + "[" + std::to_string(entries.size()) + "] = {";
         for (std::size_t k = 0; k < entries.size(); ++k) s += (k ? ", " : "") + entries[k];
         return s + "};\n";
@@ -194,7 +198,7 @@ std::string store_all(const std::string& target, const std::vector<std::string>&
     if (auto first = consecutive(entries))
         return "    std::copy_n(" + *first + ", " + std::to_string(entries.size()) + ", " + target + ".data());\n";
     std::string s;
-    if (entries.size() < kChunkStatements) {
+    if (entries.size() < kInlineEntries) {
         for (std::size_t k = 0; k < entries.size(); ++k) s += "    " + target + "[" + std::to_string(k) + "] = " + entries[k] + ";\n";
         return s;
     }
