@@ -248,8 +248,44 @@ std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const N
     s << "    default: break;\n    }\n"
       << "    throw std::out_of_range(\"" << m.name << "::apply_event: event \" + std::to_string(k) + \" (the model has "
       << ne << ")\");\n}\n\n";
-    empty("shape_positions", false, "X");
-    empty("sphere_jacobians", false, "J");
+    // shapes (contract v2): the points from one CSE pass; each sphere's ∂(X, Y, Z)/∂q; the
+    // radii (phynjo extension)
+    {
+        std::vector<Expr> points, jac, radii;
+        const auto q = m.coordinate_symbols();
+        for (const Shape& sh : m.shapes) {
+            points.insert(points.end(), sh.points.begin(), sh.points.end());
+            if (sh.kind != Shape::Kind::Sphere) continue;
+            radii.push_back(sh.radius);
+            for (std::size_t a = 0; a < 3; ++a)
+                for (std::size_t i = 0; i < n; ++i) jac.push_back(cas::diff(sh.points[a], q[i]));
+        }
+        if (points.empty()) empty("shape_positions", false, "X");
+        else {
+            const std::string b = body(names, cas::horner(points), res, uses_t, uses_p);
+            s << "void shape_positions(const Parameters& P, double t, std::span<const double> q, std::span<double> X) {\n"
+              << sizes("shape_positions", {{"q", n}, {"X", points.size()}}) << unused(uses_t, uses_p) << b;
+            for (std::size_t k = 0; k < points.size(); ++k) s << "    X[" << k << "] = " << res[k] << ";\n";
+            s << "}\n\n";
+        }
+        if (jac.empty()) empty("sphere_jacobians", false, "J");
+        else {
+            const std::string b = body(names, cas::horner(jac), res, uses_t, uses_p);
+            s << "void sphere_jacobians(const Parameters& P, double t, std::span<const double> q, std::span<double> J) {\n"
+              << sizes("sphere_jacobians", {{"q", n}, {"J", jac.size()}}) << unused(uses_t, uses_p) << b;
+            for (std::size_t k = 0; k < jac.size(); ++k) s << "    J[" << k << "] = " << res[k] << ";\n";
+            s << "}\n\n";
+        }
+        s << "void sphere_radii(const Parameters& P, std::span<double> r) {\n"
+          << "    check_size(r, " << radii.size() << ", \"sphere_radii\", \"r\");\n";
+        if (radii.empty()) s << "    (void)P;\n";
+        else {
+            const std::string b = body(names, radii, res, uses_t, uses_p);
+            s << unused(uses_t, uses_p, false) << b;
+            for (std::size_t k = 0; k < radii.size(); ++k) s << "    r[" << k << "] = " << res[k] << ";\n";
+        }
+        s << "}\n\n";
+    }
     // energy
     {
         const std::string b = body(names, {eom.energy}, res, uses_t, uses_p);

@@ -49,10 +49,19 @@ std::string emit_header(const Model& m, bool mass_depends_on_velocities) {
       << "inline constexpr std::array<bool, n_events> event_stops{";
     for (std::size_t k = 0; k < ne; ++k) h << (k ? ", " : "") << (m.events[k].stop ? "true" : "false");
     h << "};\n"
-      << "/// (v2) Number of shapes (lag-format.md, *Shapes*). This phynjo-lagc rejects `shape`\n"
-      << "/// statements (not implemented yet): always 0.\n"
-      << "inline constexpr std::size_t n_shapes = 0;\n"
-      << "inline constexpr std::array<std::string_view, n_shapes> shape_names{};\n";
+      << "/// (v2) Number of shapes (lag-format.md, *Shapes*).\n"
+      << "inline constexpr std::size_t n_shapes = " << m.shapes.size() << ";\n"
+      << "/// The shapes, in file order.\n"
+      << "inline constexpr std::array<std::string_view, n_shapes> shape_names{";
+    for (std::size_t k = 0; k < m.shapes.size(); ++k) h << (k ? ", " : "") << '"' << m.shapes[k].name << '"';
+    std::size_t n_spheres = 0;
+    for (const Shape& sh : m.shapes) n_spheres += sh.kind == Shape::Kind::Sphere ? 1 : 0;
+    h << "};\n/// (phynjo extension) Per shape: true for a sphere (3 entries of shape_positions, and a\n"
+      << "/// Jacobian in sphere_jacobians), false for a segment (6 entries, drawn only).\n"
+      << "inline constexpr std::array<bool, n_shapes> shape_is_sphere{";
+    for (std::size_t k = 0; k < m.shapes.size(); ++k) h << (k ? ", " : "") << (m.shapes[k].kind == Shape::Kind::Sphere ? "true" : "false");
+    h << "};\n/// (phynjo extension) Number of spheres (the shapes that collide).\n"
+      << "inline constexpr std::size_t n_spheres = " << n_spheres << ";\n";
     h << "\n/// The parameters, with the defaults of the model file. A parameter defined from others\n"
       << "/// (phynjo::runtime::Derived) follows them until it is assigned a value.\nstruct Parameters {\n";
     for (const auto& p : m.parameters) {
@@ -138,7 +147,9 @@ std::string emit_header(const Model& m, bool mass_depends_on_velocities) {
       << "/// (v2) Shapes, file order: centres of spheres (3 each) and segment end points (6 each).\n"
       << "void shape_positions(const Parameters& P, double t, std::span<const double> q, std::span<double> X);\n"
       << "/// (v2) For each sphere, d(X, Y, Z)/dq: 3 x dof, row-major, spheres in file order.\n"
-      << "void sphere_jacobians(const Parameters& P, double t, std::span<const double> q, std::span<double> J);\n\n"
+      << "void sphere_jacobians(const Parameters& P, double t, std::span<const double> q, std::span<double> J);\n"
+      << "/// (phynjo extension) The spheres' radii (m), file order, length n_spheres.\n"
+      << "void sphere_radii(const Parameters& P, std::span<double> r);\n\n"
       << "} // namespace " << m.name << "\n#endif\n\n"
       << "#if !defined(PHYNJO_GENERATED_FUNCTIONS_ONLY) && !defined(" << guard << "_RUNTIME)\n#define " << guard
       << "_RUNTIME\n#include \"phynjo/runtime/models/generated.hpp\"\n\n"

@@ -178,6 +178,7 @@ std::string describe(const Dim& d) {
 Dim energy() { return make({1, 2, -2}); }
 Dim power() { return make({1, 2, -3}); }
 Dim seconds() { return make({0, 0, 1}); }
+Dim metres() { return make({0, 1}); }
 
 ParsedUnit parse_unit(std::string_view text) {
     ParsedUnit out;

@@ -36,6 +36,7 @@ std::string describe(const Dim& d);
 Dim energy();  ///< J
 Dim power();   ///< W
 Dim seconds(); ///< s
+Dim metres();  ///< m
 
 /// A unit's text (`m/s^2`, `kg*m^2`, `1/s`, `N*m`): its dimension, or where (offset in
 /// `text`) and what is wrong.

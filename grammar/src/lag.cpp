@@ -188,13 +188,6 @@ ParsedModel parse_model(std::string_view text, Positions& positions, DiagnosticS
             continuation_pending = false;
             continue;
         }
-        if (keyword == "shape") {
-            sink.error(w0, keyword.size(),
-                       "'" + keyword + "' statements are not implemented in this version of phynjo-lagc");
-            model.failed_keywords.push_back(keyword);
-            continuation_pending = false;
-            continue;
-        }
         const bool after_break = continuation_pending;
         continuation_pending = false;
         bool failed = false;

@@ -197,6 +197,37 @@ TEST_CASE("lag diagnostics: events, with notes", "[codegen][diagnostics][events]
 }
 
 
+// Bugs caught: a negative or non-constant radius accepted, a shape that moves with a
+// velocity, a missing 'at'/'to' reported in X3's words, a second shape of a name without
+// the note to the first, a centre that is not a length in a file with units.
+TEST_CASE("lag diagnostics: shapes", "[codegen][diagnostics][shapes]") {
+    CHECK(diagnose("coordinates x\nparameters r = -1/10\nlagrangian 1/2*x'^2\nshape b: sphere r at (x, 0, 0)\n") ==
+          "m.lag:4:17: error: the radius of shape 'b' is r = -1/10 at the parameters' defaults: a radius must be a "
+          "positive finite length\n    shape b: sphere r at (x, 0, 0)\n                    ^~\n");
+    CHECK(diagnose("coordinates x\ninput u = 1\nlagrangian 1/2*x'^2\nshape b: sphere u at (x, 0, 0)\n") ==
+          "m.lag:4:17: error: the radius of shape 'b' is not constant: it depends on the input u (inputs change during "
+          "a run)\n    shape b: sphere u at (x, 0, 0)\n                    ^~\n");
+    CHECK(diagnose("coordinates x\nlagrangian 1/2*x'^2\nshape b: sphere 1 at (x', 0, 0)\n") ==
+          "m.lag:3:23: error: the centre of shape 'b' depends on the velocity x': a shape's position may depend on t, "
+          "coordinates, parameters and inputs\n    shape b: sphere 1 at (x', 0, 0)\n                          ^~\n");
+    CHECK(diagnose("coordinates x\nlagrangian 1/2*x'^2\nshape s: segment (0, 0, 0) (x, 0, 0)\n") ==
+          "m.lag:3:28: error: expected 'to', found '('\n    shape s: segment (0, 0, 0) (x, 0, 0)\n"
+          "                               ^\n");
+    CHECK(diagnose("coordinates x\nlagrangian 1/2*x'^2\nshape s: box 1 at (x, 0, 0)\n") ==
+          "m.lag:3:10: error: expected a shape (sphere R at (X, Y, Z) or segment (X1, Y1, Z1) to (X2, Y2, Z2)), found "
+          "'box'\n    shape s: box 1 at (x, 0, 0)\n             ^~~\n");
+    CHECK(diagnose("coordinates x\nlagrangian 1/2*x'^2\nshape s: sphere 1 at (x, 0, 0)\nshape s: sphere 2 at (0, x, 0)\n") ==
+          "m.lag:4:7: error: a second shape named 's'\n    shape s: sphere 2 at (0, x, 0)\n          ^\n"
+          "m.lag:3:7: note: the first shape 's' is here\n    shape s: sphere 1 at (x, 0, 0)\n          ^\n");
+    CHECK(diagnose("coordinates x [m]\nparameters m = 1 [kg]\nlagrangian 1/2*m*x'^2\nshape s: sphere 1 [m] at (x, m, 0)\n") ==
+          "m.lag:4:30: error: the centre of shape 's': expected m, found kg\n    shape s: sphere 1 [m] at (x, m, 0)\n"
+          "                                 ^\n");
+    // accepted: a fixed obstacle (no coordinate), t and inputs in a position, a radius from
+    // parameters, segments
+    CHECK(diagnose("coordinates x\nparameters r = 1/10\ninput u = 0\nlagrangian 1/2*x'^2\nshape wall: sphere 1 at (5, 0, 0)\n"
+                   "shape b: sphere 2*r at (x + u, sin(t), 0)\nshape rod: segment (0, 0, 0) to (x, 0, 0)\n") == "(accepted)");
+}
+
 // Bugs caught: a dimension check that stops at the first error of a file, misses a term of
 // L, reads `1/2 [N/m]` as 1/(2 N/m), points at the whole statement instead of the term,
 // names the wrong dimension, or checks files without units (every v1 file must compile).

@@ -68,6 +68,17 @@ struct Event {
     SourceSpan where; ///< the event's name
 };
 
+/// (v2) `shape NAME: sphere R at (X, Y, Z)` or `shape NAME: segment (…) to (…)`
+/// (lag-format.md, *Shapes*): geometry attached to the model's kinematics.
+struct Shape {
+    enum class Kind { Sphere, Segment };
+    std::string name;
+    Kind kind = Kind::Sphere;
+    cas::Expr radius;                   ///< a sphere's radius (parameters and numbers), m
+    std::vector<cas::Expr> points;      ///< X, Y, Z of the centre, or of both ends; every `let` substituted
+    SourceSpan where;                   ///< the shape's name
+};
+
 struct Model {
     std::string name; ///< C++ namespace of the generated code
     std::string source_name;
@@ -80,6 +91,7 @@ struct Model {
     SourceSpan lagrangian_where;
     std::vector<Constraint> constraints; ///< file order
     std::vector<Event> events;           ///< file order
+    std::vector<Shape> shapes;           ///< file order
 
     [[nodiscard]] std::size_t n_inputs() const noexcept {
         std::size_t k = 0;

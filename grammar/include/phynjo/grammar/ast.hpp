@@ -157,8 +157,31 @@ struct EventStmt : x3::position_tagged {
     std::vector<EventAction> actions;
 };
 
+/// (v2) A point `(X, Y, Z)` of a shape, world frame.
+struct Point : x3::position_tagged {
+    Expression x, y, z;
+};
+/// (v2) `sphere R at (X, Y, Z)`.
+struct Sphere : x3::position_tagged {
+    Expression radius;
+    Point centre;
+};
+/// (v2) `segment (X1, Y1, Z1) to (X2, Y2, Z2)`.
+struct Segment : x3::position_tagged {
+    Point from, to;
+};
+struct Geometry : x3::variant<Sphere, Segment> {
+    using base_type::base_type;
+    using base_type::operator=;
+};
+/// (v2) `shape NAME: GEOMETRY` (lag-format.md, *Shapes*).
+struct ShapeStmt : x3::position_tagged {
+    Name name;
+    Geometry geometry;
+};
+
 struct Statement : x3::variant<ModelStmt, CoordinatesStmt, ParametersStmt, LetStmt, LagrangianStmt, DissipationStmt,
-                               ForceStmt, InitialStmt, InputStmt, ConstraintStmt, EventStmt> {
+                               ForceStmt, InitialStmt, InputStmt, ConstraintStmt, EventStmt, ShapeStmt> {
     using base_type::base_type;
     using base_type::operator=;
 };
