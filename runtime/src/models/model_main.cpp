@@ -51,7 +51,7 @@ void help(const char* prog, const ModelCommandLine& model, const LagrangianSyste
                 "          [--param NAME=VALUE]... [--init NAME=VALUE[,NAME'=VALUE]...]... [--output FILE]\n"
                 "          [--energy-tolerance TOL [--fail-on-drift]] [--project-initial]\n"
                 "          [--projection-tolerance TOL] [--rtol R] [--atol A]\n"
-                "          [--events FILE] [--rest-speed V] [--max-events-per-step N]\n"
+                "          [--events FILE] [--rest-speed V] [--max-events-per-step N] [--shapes FILE]\n"
                 "Simulates the model %.*s from its initial state and writes CSV: t, q..., q'..., E\n"
                 "(and, for a model with constraints, their multipliers lambda_NAME...).\n"
                 "  --t-end T              end time in s (default 10); the run ends exactly at T\n"
@@ -85,6 +85,9 @@ void help(const char* prog, const ModelCommandLine& model, const LagrangianSyste
                 "                         coordinates and velocities just after the event's actions\n"
                 "                         (a stop event ends the run at its crossing, with a last row\n"
                 "                         in the output); the model's events: %s\n"
+                "  --shapes FILE          write the model's shapes at every output row as CSV to FILE:\n"
+                "                         t, then NAME_x, NAME_y, NAME_z of each sphere's centre and\n"
+                "                         NAME_x1 … NAME_z2 of each segment's ends, m\n"
                 "  --rest-speed V         the Zeno remedy: a velocity an event resets to below V becomes 0\n"
                 "                         and is held (a ball comes to rest) until a free step would\n"
                 "                         leave the event's guard on its armed side (default: off)\n"
@@ -103,7 +106,7 @@ int model_main(int argc, char** argv, const ModelCommandLine& model) {
     std::optional<double> energy_tolerance;
     bool fail_on_drift = false, project_initial = false;
     ProjectionOptions projection;
-    std::string integrator = "rk4", output, events_output;
+    std::string integrator = "rk4", output, events_output, shapes_output;
     EventOptions event_options;
     std::optional<double> rtol, atol;
     long every = 0;
@@ -146,6 +149,7 @@ int model_main(int argc, char** argv, const ModelCommandLine& model) {
                 if (!(*energy_tolerance > 0)) throw UsageError{"--energy-tolerance must be positive"};
             } else if (a == "--fail-on-drift") fail_on_drift = true;
             else if (a == "--events") events_output = value("--events");
+            else if (a == "--shapes") shapes_output = value("--shapes");
             else if (a == "--rest-speed") {
                 event_options.rest_speed = num("--rest-speed");
                 if (!(event_options.rest_speed > 0)) throw UsageError{"--rest-speed must be positive"};
@@ -261,6 +265,25 @@ int model_main(int argc, char** argv, const ModelCommandLine& model) {
     std::fprintf(out, ",E");
     for (const auto& n : sys.constraint_names) std::fprintf(out, ",lambda_%s", n.c_str());
     std::fprintf(out, "\n");
+    // --shapes: the points of every shape, one row per output row
+    std::FILE* shapes_file = nullptr;
+    std::vector<double> shape_points;
+    if (!shapes_output.empty()) {
+        shapes_file = std::fopen(shapes_output.c_str(), "w");
+        if (!shapes_file) {
+            std::fprintf(stderr, "%s: cannot write %s\n", argv[0], shapes_output.c_str());
+            if (out != stdout) std::fclose(out);
+            return 1;
+        }
+        std::fprintf(shapes_file, "t");
+        for (std::size_t k = 0; k < sys.n_shapes; ++k) {
+            const char* n = sys.shape_names[k].c_str();
+            if (sys.shape_is_sphere[k]) std::fprintf(shapes_file, ",%s_x,%s_y,%s_z", n, n, n);
+            else std::fprintf(shapes_file, ",%s_x1,%s_y1,%s_z1,%s_x2,%s_y2,%s_z2", n, n, n, n, n, n);
+            shape_points.resize(shape_points.size() + (sys.shape_is_sphere[k] ? 3 : 6));
+        }
+        std::fprintf(shapes_file, "\n");
+    }
     std::vector<double> acc(dof), lambda(sys.n_constraints);
     const double e0 = sys.energy(0, w.field(kGQ), w.field(kGV));
     double drift = 0;
@@ -276,6 +299,12 @@ int model_main(int argc, char** argv, const ModelCommandLine& model) {
             for (double l : lambda) std::fprintf(out, ",%.17g", l);
         }
         std::fprintf(out, "\n");
+        if (shapes_file) {
+            if (!shape_points.empty()) sys.shape_positions(w.time, w.field(kGQ), shape_points);
+            std::fprintf(shapes_file, "%.17g", w.time);
+            for (double x : shape_points) std::fprintf(shapes_file, ",%.17g", x);
+            std::fprintf(shapes_file, "\n");
+        }
     };
     int status = 0;
     const bool with_events = sys.n_events > 0;
@@ -349,6 +378,7 @@ int model_main(int argc, char** argv, const ModelCommandLine& model) {
         status = 1;
     }
     if (out != stdout) std::fclose(out);
+    if (shapes_file) std::fclose(shapes_file);
     if (monitor.stopped() && !monitor.log().empty()) {
         const EventRecord& last_event = monitor.log().back();
         std::fprintf(stderr, "%s: the run stopped at t = %.17g: event '%s'\n", argv[0], last_event.time,

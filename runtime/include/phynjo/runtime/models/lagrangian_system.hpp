@@ -77,6 +77,19 @@ struct LagrangianSystem {
     /// The resets of event k, every right side evaluated on (q, q') as given, then stored.
     std::function<void(std::size_t k, double t, std::span<double> q, std::span<double> qdot)> apply_event;
 
+    // (v2) Shapes (lag-format.md, *Shapes*), file order; none when n_shapes = 0.
+    std::size_t n_shapes = 0;
+    std::vector<std::string> shape_names;
+    /// Per shape: 1 for a sphere (3 entries of shape_positions), 0 for a segment (6 entries).
+    std::vector<unsigned char> shape_is_sphere;
+    std::size_t n_spheres = 0;
+    /// Centres of spheres and ends of segments, file order (3 or 6 entries each), m.
+    std::function<void(double t, std::span<const double> q, std::span<double> X)> shape_positions;
+    /// Each sphere's ∂(X, Y, Z)/∂q: 3×dof, row-major, spheres in file order.
+    std::function<void(double t, std::span<const double> q, std::span<double> J)> sphere_jacobians;
+    /// The spheres' radii, m (they follow the parameters).
+    std::function<void(std::span<double> r)> sphere_radii;
+
     // (v2) Exact Jacobians (generated code provides them; may be empty for a hand-made system).
     /// ∂y'/∂y of y = (q, q'), y' = (q', q''): (2·dof)×(2·dof), row-major.
     std::function<void(double t, std::span<const double> q, std::span<const double> qdot, std::span<double> J)>
