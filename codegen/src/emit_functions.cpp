@@ -260,22 +260,18 @@ std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const N
             for (std::size_t a = 0; a < 3; ++a)
                 for (std::size_t i = 0; i < n; ++i) jac.push_back(cas::diff(sh.points[a], q[i]));
         }
-        if (points.empty()) empty("shape_positions", false, "X");
-        else {
-            const std::string b = body(names, cas::horner(points), res, uses_t, uses_p);
-            s << "void shape_positions(const Parameters& P, double t, std::span<const double> q, std::span<double> X) {\n"
-              << sizes("shape_positions", {{"q", n}, {"X", points.size()}}) << unused(uses_t, uses_p) << b;
-            for (std::size_t k = 0; k < points.size(); ++k) s << "    X[" << k << "] = " << res[k] << ";\n";
+        // a function of (P, t, q) filling `out` from `exprs` (one CSE pass), or its empty stub
+        auto of_q = [&](const char* fn, const char* out, const std::vector<Expr>& exprs) {
+            if (exprs.empty()) return empty(fn, false, out);
+            const std::string b = body(names, cas::horner(exprs), res, uses_t, uses_p);
+            s << "void " << fn << "(const Parameters& P, double t, std::span<const double> q, std::span<double> " << out
+              << ") {\n"
+              << sizes(fn, {{"q", n}, {out, exprs.size()}}) << unused(uses_t, uses_p) << b;
+            for (std::size_t k = 0; k < exprs.size(); ++k) s << "    " << out << "[" << k << "] = " << res[k] << ";\n";
             s << "}\n\n";
-        }
-        if (jac.empty()) empty("sphere_jacobians", false, "J");
-        else {
-            const std::string b = body(names, cas::horner(jac), res, uses_t, uses_p);
-            s << "void sphere_jacobians(const Parameters& P, double t, std::span<const double> q, std::span<double> J) {\n"
-              << sizes("sphere_jacobians", {{"q", n}, {"J", jac.size()}}) << unused(uses_t, uses_p) << b;
-            for (std::size_t k = 0; k < jac.size(); ++k) s << "    J[" << k << "] = " << res[k] << ";\n";
-            s << "}\n\n";
-        }
+        };
+        of_q("shape_positions", "X", points);
+        of_q("sphere_jacobians", "J", jac);
         s << "void sphere_radii(const Parameters& P, std::span<double> r) {\n"
           << "    check_size(r, " << radii.size() << ", \"sphere_radii\", \"r\");\n";
         if (radii.empty()) s << "    (void)P;\n";
