@@ -41,6 +41,18 @@ std::vector<std::string> split_functions(const std::string& text, std::size_t pa
     return bins;
 }
 
+/// Every expression of `vs` in Horner form, from one pass that shares the work on common
+/// subexpressions.
+void horner_in_place(std::initializer_list<std::vector<cas::Expr>*> vs) {
+    using cas::Expr;
+    std::vector<Expr> all;
+    for (auto* v : vs) all.insert(all.end(), v->begin(), v->end());
+    const auto h = cas::horner(all);
+    std::size_t k = 0;
+    for (auto* v : vs)
+        for (Expr& e : *v) e = h[k++];
+}
+
 } // namespace
 
 EmittedCpp emit_cpp(const Model& m, const EquationsOfMotion& raw, const EmitOptions& options) {
@@ -49,32 +61,15 @@ EmittedCpp emit_cpp(const Model& m, const EquationsOfMotion& raw, const EmitOpti
     // work on common subexpressions; each function body is then CSE'd. Together: fewer
     // operations than SymPy's cse on the same system (bench/RESULTS.md).
     EquationsOfMotion eom = raw;
-    {
-        std::vector<Expr> all = eom.mass_matrix;
-        const auto parts = {&eom.forcing,           &eom.momenta, &eom.generalized_forces, &eom.constraint_matrix,
-                            &eom.gamma,             &eom.residuals, &eom.velocity_residuals};
-        for (auto* v : parts) all.insert(all.end(), v->begin(), v->end());
-        all.push_back(eom.energy);
-        const auto h = cas::horner(all);
-        std::size_t k = 0;
-        for (Expr& e : eom.mass_matrix) e = h[k++];
-        for (auto* v : parts)
-            for (Expr& e : *v) e = h[k++];
-        eom.energy = h[k];
-    }
+    std::vector<Expr> energy{eom.energy};
+    horner_in_place({&eom.mass_matrix, &eom.forcing, &eom.momenta, &eom.generalized_forces, &eom.constraint_matrix,
+                     &eom.gamma, &eom.residuals, &eom.velocity_residuals, &energy});
+    eom.energy = energy[0];
     derive_jacobians(m, eom);
-    {
-        // the derivatives of the Horner forms, in Horner form again: nlink_cart(40)'s
-        // canonical_jacobian 1.11 → 0.59 MB of C++, rhs_jacobian 0.61 → 0.57 MB
-        const auto jacobians = {&eom.jacobian_r, &eom.jacobian_c, &eom.input_r, &eom.input_c, &eom.momenta_jacobian,
-                                &eom.force_jacobian};
-        std::vector<Expr> all;
-        for (auto* v : jacobians) all.insert(all.end(), v->begin(), v->end());
-        const auto h = cas::horner(all);
-        std::size_t k = 0;
-        for (auto* v : jacobians)
-            for (Expr& e : *v) e = h[k++];
-    }
+    // the derivatives of the Horner forms, in Horner form again: nlink_cart(40)'s
+    // canonical_jacobian 1.11 → 0.59 MB of C++, rhs_jacobian 0.61 → 0.57 MB
+    horner_in_place({&eom.jacobian_r, &eom.jacobian_c, &eom.input_r, &eom.input_c, &eom.momenta_jacobian,
+                     &eom.force_jacobian});
     EmittedCpp out;
     out.header = emit_header(m, raw.mass_depends_on_velocities);
     // what every source file starts with: the includes and the helpers (unused ones allowed)
