@@ -9,10 +9,19 @@
 //   K⁻¹(n) = 1/m_a + 1/m_b,  K⁻¹(t1) = 1/m_a + 1/m_b + r_a² t2·I_a⁻¹t2 + r_b² t2·I_b⁻¹t2 (t1 ↔ t2 alike),
 // and a tangential impulse λ1 t1 + λ2 t2 on a (minus on b) changes the spins by
 //   ω_a += r_a I_a⁻¹ u,  ω_b += r_b I_b⁻¹ u,  u = λ2 t1 − λ1 t2.
+// A model sphere (scene.hpp) is a body without spin whose translational inverse mass is the
+// 3×3 matrix A_s = J_s B_s instead of 1/m 𝟙: 1/m_a in K⁻¹(u) becomes uᵀA_s u, and an impulse
+// Λ on it changes its model's q' by B_s Λ, hence the velocity of every sphere s' of that
+// model by J_s' B_s Λ.
 #include "phynjo/runtime/contact/contact_solver.hpp"
+
+#include "phynjo/runtime/contact/scene.hpp"
 
 #include "phynjo/runtime/core/errors.hpp"
 #include "phynjo/runtime/rigid/rigid_world.hpp"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
 
 #include <algorithm>
 #include <cmath>
@@ -40,9 +49,25 @@ namespace {
 
 struct Body {
     double v[3], w[3], p[3];
-    double im;    // 1/m
+    double im;    // 1/m (0 for a model sphere: see `model`)
     double ii[6]; // world inverse inertia: xx, yy, zz, xy, xz, yz
     double r;
+    int model = -1;  // a model sphere: its model (ModelScratch), else −1
+    int sphere = -1; // its index among that model's spheres
+};
+
+/// A model taking part in the contacts: its q, q' during the solve and, at the state of the
+/// step, J (3·ns×dof), B = P M⁻¹ Jᵀ (dof×3·ns) and each sphere's A_s = J_s B_s.
+struct ModelScratch {
+    PlacedModel placed;
+    std::size_t first = 0; // scratch index of its first sphere
+    std::size_t nx = 0;    // entries of shape_positions
+    std::vector<double> q, qd, X, Xp, Xm, dq;
+    std::vector<double> A; // 6 per sphere: xx, yy, zz, xy, xz, yz
+    std::vector<double> acc; // Jacobi: position impulses per sphere (3 each)
+    Eigen::MatrixXd J, M, B, G, MinvGt, S, GB;
+    Eigen::LDLT<Eigen::MatrixXd> ldlt_m, ldlt_s;
+    SphereSync sync;
 };
 
 struct Row {
@@ -109,10 +134,40 @@ constexpr std::size_t kReservedContactsPerBody = 16;
 class Solver {
 public:
     Solver(const ComponentSet& bodies, std::vector<Plane> planes, ContactMaterial material, ContactOptions options,
-           std::shared_ptr<const Layout> layout, bool sphere_pairs)
+           std::shared_ptr<const Layout> layout, bool sphere_pairs, const Scene* scene = nullptr)
         : ids_(bodies.indices().begin(), bodies.indices().end()), planes_(std::move(planes)),
           material_(std::move(material)), options_(options), layout_(std::move(layout)), sphere_pairs_(sphere_pairs),
           manager_(options.broad_phase) {
+        n_rigid_ = ids_.size();
+        if (scene != nullptr) {
+            q_field_ = scene->q;
+            qd_field_ = scene->qd;
+            for (const PlacedModel& p : scene->models) {
+                if (p.spheres.empty()) continue;
+                ModelScratch m;
+                m.placed = p;
+                m.first = ids_.size();
+                const LagrangianSystem& s = *p.system;
+                const std::size_t n = s.dof, ns = p.spheres.size();
+                for (std::size_t k = 0; k < s.n_shapes; ++k) m.nx += s.shape_is_sphere[k] ? 3 : 6;
+                m.q.resize(n), m.qd.resize(n), m.dq.resize(n), m.X.resize(m.nx), m.Xp.resize(m.nx), m.Xm.resize(m.nx);
+                m.A.resize(6 * ns), m.acc.resize(3 * ns);
+                m.J.resize(static_cast<Eigen::Index>(3 * ns), static_cast<Eigen::Index>(n));
+                m.M.resize(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
+                m.B.resize(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(3 * ns));
+                m.ldlt_m = Eigen::LDLT<Eigen::MatrixXd>(static_cast<Eigen::Index>(n));
+                const auto nc = static_cast<Eigen::Index>(s.n_constraints);
+                if (nc > 0) {
+                    m.G.resize(nc, static_cast<Eigen::Index>(n));
+                    m.MinvGt.resize(static_cast<Eigen::Index>(n), nc);
+                    m.S.resize(nc, nc);
+                    m.GB.resize(nc, static_cast<Eigen::Index>(3 * ns));
+                    m.ldlt_s = Eigen::LDLT<Eigen::MatrixXd>(nc);
+                }
+                ids_.insert(ids_.end(), p.spheres.begin(), p.spheres.end());
+                models_.push_back(std::move(m));
+            }
+        }
         for (int k = 0;; ++k) {
             const std::string s = std::to_string(k);
             auto find = [&](const std::string& name) -> int {
@@ -151,20 +206,25 @@ private:
     void gather(const World& w);
     void detect(const World& w, double dt);
     void correct_positions();
+    /// Position correction corr·n on one side of a row with a model sphere (rigid or model).
+    void position_impulse(const Body& X, std::size_t index, double corr, const double* n, bool jacobi);
     void setup_rows(double dt);
     void warm_start(const World& w);
     void find_slots(const World& w);
     void collisions(double dt);
     void solve_contacts();
-    void scatter(World& w) const;
+    void scatter(World& w);
     /// The unit normal n (from b towards a) and the signed separation at the current positions.
     double geometry(const Row& c, double* n) const;
     void store_cache(World& w) const;
     double curve(const MaterialCurve& c, double speed, bool restitution) const;
 
     // velocity-level kernels
-    void apply_normal(Row& c, double lambda, std::vector<Body>& B) const;
-    void apply_tangent(Row& c, double l1, double l2, std::vector<Body>& B) const;
+    void apply_normal(Row& c, double lambda, std::vector<Body>& B);
+    void apply_tangent(Row& c, double l1, double l2, std::vector<Body>& B);
+    /// Impulse p on one side of a row with a model sphere; for a rigid side, u (tangential
+    /// rows: the spin direction, file comment) times its lever r turns it.
+    void side_impulse(Body& X, const double* p, const double* u, double r, std::vector<Body>& B);
 
     std::vector<Index> ids_;
     std::vector<Plane> planes_;
@@ -184,7 +244,31 @@ private:
     std::vector<double> delta_; // Jacobi position accumulators: 3 per body
     std::vector<double> split_; // Jacobi: contacts per body (mass splitting)
     std::vector<Index> local_;  // component → scratch index (for pair lookup)
+    std::vector<ModelScratch> models_;
+    FieldId q_field_ = 0, qd_field_ = 0;
+    std::size_t n_rigid_ = 0; // ids_: the rigid bodies, then the models' spheres
+
+    void gather_model(const World& w, ModelScratch& m, std::size_t index);
+    void scatter_model(World& w, ModelScratch& m);
+    /// Λ on model sphere X: q' += B_s Λ and every sphere of the model follows (velocity level),
+    /// or q += B_s Λ and the centres follow (position level).
+    void model_impulse(const Body& X, const double* lambda, std::vector<Body>& B, bool position);
+    /// The translational inverse mass of X along u: 1/m, or uᵀ A_s u for a model sphere.
+    double linear_inverse_mass(const Body& X, const double* u) const {
+        return X.model < 0 ? X.im : quad(&models_[static_cast<std::size_t>(X.model)].A[6 * static_cast<std::size_t>(X.sphere)], u);
+    }
+    /// The size of X's inverse mass (1/m, or tr A_s): what "singular" is measured against.
+    double inverse_mass_scale(const Body& X) const {
+        if (X.model < 0) return X.im;
+        const double* a = &models_[static_cast<std::size_t>(X.model)].A[6 * static_cast<std::size_t>(X.sphere)];
+        return a[0] + a[1] + a[2];
+    }
+    /// Whether a row between a and b has a model sphere on either side.
+    bool has_model(const Row& c) const { return bodies_[c.a].model >= 0 || bodies_[c.b].model >= 0; }
 };
+
+/// K⁻¹ below this fraction of the two sides' scales: the pair cannot move along u (scene.hpp).
+constexpr double kSingularInverseMass = 1e-12;
 
 double Solver::curve(const MaterialCurve& c, double speed, bool restitution) const {
     const double v = c(speed);
@@ -200,7 +284,7 @@ double Solver::curve(const MaterialCurve& c, double speed, bool restitution) con
 void Solver::gather(const World& w) {
     const std::size_t n = ids_.size();
     bodies_.resize(n + 1);
-    for (std::size_t k = 0; k < n; ++k) {
+    for (std::size_t k = 0; k < n_rigid_; ++k) {
         const Index i = ids_[k];
         Body& b = bodies_[k];
         b.v[0] = w.at(kVX, i), b.v[1] = w.at(kVY, i), b.v[2] = w.at(kVZ, i);
@@ -222,7 +306,110 @@ void Solver::gather(const World& w) {
             b.ii[3] = 0.5 * (m(0, 1) + m(1, 0)), b.ii[4] = 0.5 * (m(0, 2) + m(2, 0)), b.ii[5] = 0.5 * (m(1, 2) + m(2, 1));
         }
     }
+    for (std::size_t m = 0; m < models_.size(); ++m) gather_model(w, models_[m], m);
     bodies_[n] = Body{}; // the static body: no velocity, zero inverse mass and inertia
+}
+
+void Solver::gather_model(const World& w, ModelScratch& m, std::size_t index) {
+    const LagrangianSystem& s = *m.placed.system;
+    const std::size_t n = s.dof, ns = m.placed.spheres.size();
+    const auto en = static_cast<Eigen::Index>(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        m.q[i] = w.at(q_field_, m.placed.coordinates[i]);
+        m.qd[i] = w.at(qd_field_, m.placed.coordinates[i]);
+        if (!std::isfinite(m.q[i]) || !std::isfinite(m.qd[i]))
+            throw Error("contact: the state of model '" + m.placed.name + "' is not finite");
+    }
+    const double t = w.time;
+    const double h = 6e-6 * std::max(1.0, std::abs(t)); // as sync_model_spheres
+    s.shape_positions(t, m.q, m.X);
+    s.shape_positions(t + h, m.q, m.Xp);
+    s.shape_positions(t - h, m.q, m.Xm);
+    // J and M are row-major in the generated code; Eigen's are column-major: fill by rows.
+    {
+        std::vector<double>& buf = m.sync.J;
+        buf.resize(3 * ns * n);
+        s.sphere_jacobians(t, m.q, buf);
+        for (std::size_t r = 0; r < 3 * ns; ++r)
+            for (std::size_t c = 0; c < n; ++c) m.J(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(c)) = buf[r * n + c];
+        buf.resize(n * n);
+        s.mass_matrix(t, m.q, m.qd, buf);
+        for (std::size_t r = 0; r < n; ++r)
+            for (std::size_t c = 0; c < n; ++c) m.M(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(c)) = buf[r * n + c];
+    }
+    m.ldlt_m.compute(m.M);
+    if (m.ldlt_m.info() != Eigen::Success || !(m.ldlt_m.vectorD().minCoeff() > 0))
+        throw Error("contact: the mass matrix of model '" + m.placed.name + "' is singular at t = " + std::to_string(t) +
+                    " s: its spheres' effective masses are undefined");
+    m.B = m.J.transpose();
+    m.ldlt_m.solveInPlace(m.B); // M⁻¹ Jᵀ
+    if (s.n_constraints > 0) {   // B ← B − M⁻¹Gᵀ (G M⁻¹ Gᵀ)⁻¹ G B
+        std::vector<double>& buf = m.sync.X;
+        buf.resize(s.n_constraints * n);
+        s.constraint_matrix(t, m.q, buf);
+        for (std::size_t r = 0; r < s.n_constraints; ++r)
+            for (std::size_t c = 0; c < n; ++c) m.G(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(c)) = buf[r * n + c];
+        m.MinvGt = m.G.transpose();
+        m.ldlt_m.solveInPlace(m.MinvGt);
+        m.S.noalias() = m.G * m.MinvGt;
+        m.ldlt_s.compute(m.S);
+        if (m.ldlt_s.info() != Eigen::Success || !(m.ldlt_s.vectorD().minCoeff() > 1e-14 * m.S.diagonal().maxCoeff()))
+            throw Error("contact: the constraints of model '" + m.placed.name + "' are dependent at t = " + std::to_string(t) +
+                        " s (G M⁻¹ Gᵀ is singular)");
+        m.GB.noalias() = m.G * m.B;
+        m.ldlt_s.solveInPlace(m.GB);
+        m.B.noalias() -= m.MinvGt * m.GB;
+    }
+    (void)en;
+    for (std::size_t j = 0; j < ns; ++j) {
+        const auto c = static_cast<Eigen::Index>(3 * j);
+        const Eigen::Matrix3d a = m.J.middleRows(c, 3) * m.B.middleCols(c, 3);
+        double* A = &m.A[6 * j];
+        A[0] = a(0, 0), A[1] = a(1, 1), A[2] = a(2, 2);
+        A[3] = 0.5 * (a(0, 1) + a(1, 0)), A[4] = 0.5 * (a(0, 2) + a(2, 0)), A[5] = 0.5 * (a(1, 2) + a(2, 1));
+        Body& b = bodies_[m.first + j];
+        b = Body{};
+        b.model = static_cast<int>(index);
+        b.sphere = static_cast<int>(j);
+        b.r = m.placed.radii[j];
+        for (int k = 0; k < 3; ++k) {
+            const std::size_t x = m.placed.centre[j] + static_cast<std::size_t>(k);
+            double v = (m.Xp[x] - m.Xm[x]) / (2 * h);
+            for (std::size_t i = 0; i < n; ++i) v += m.J(c + k, static_cast<Eigen::Index>(i)) * m.qd[i];
+            b.p[k] = m.X[x];
+            b.v[k] = v;
+        }
+    }
+}
+
+void Solver::model_impulse(const Body& X, const double* lambda, std::vector<Body>& B, bool position) {
+    ModelScratch& m = models_[static_cast<std::size_t>(X.model)];
+    const std::size_t n = m.q.size(), ns = m.placed.spheres.size();
+    const auto c = static_cast<Eigen::Index>(3 * X.sphere);
+    for (std::size_t i = 0; i < n; ++i) {
+        const auto r = static_cast<Eigen::Index>(i);
+        m.dq[i] = m.B(r, c) * lambda[0] + m.B(r, c + 1) * lambda[1] + m.B(r, c + 2) * lambda[2];
+    }
+    std::vector<double>& target = position ? m.q : m.qd;
+    for (std::size_t i = 0; i < n; ++i) target[i] += m.dq[i];
+    for (std::size_t j = 0; j < ns; ++j) {
+        Body& b = B[m.first + j];
+        double* out = position ? b.p : b.v;
+        for (int k = 0; k < 3; ++k) {
+            const auto r = static_cast<Eigen::Index>(3 * j + static_cast<std::size_t>(k));
+            double d = 0;
+            for (std::size_t i = 0; i < n; ++i) d += m.J(r, static_cast<Eigen::Index>(i)) * m.dq[i];
+            out[k] += d;
+        }
+    }
+}
+
+void Solver::scatter_model(World& w, ModelScratch& m) {
+    for (std::size_t i = 0; i < m.q.size(); ++i) {
+        w.at(q_field_, m.placed.coordinates[i]) = m.q[i];
+        w.at(qd_field_, m.placed.coordinates[i]) = m.qd[i];
+    }
+    sync_model_spheres(m.placed, q_field_, qd_field_, w.time, w, m.sync); // the exact centres at the corrected q
 }
 
 void Solver::detect(const World& w, double dt) {
@@ -252,15 +439,20 @@ void Solver::detect(const World& w, double dt) {
     for (std::size_t k = 0; k < ids_.size(); ++k) local_[ids_[k]] = static_cast<Index>(k);
     rows_.resize(contacts_.size());
     const auto stat = static_cast<std::uint32_t>(ids_.size());
+    std::size_t kept = 0;
     for (std::size_t c = 0; c < contacts_.size(); ++c) {
         const Contact& k = contacts_[c];
-        Row& r = rows_[c];
-        r.a = local_[k.a];
-        r.b = k.plane >= 0 ? stat : local_[k.b];
+        const std::uint32_t a = local_[k.a], b = k.plane >= 0 ? stat : local_[k.b];
+        // Spheres of one model do not collide with each other (scene.hpp).
+        if (b != stat && bodies_[a].model >= 0 && bodies_[a].model == bodies_[b].model) continue;
+        Row& r = rows_[kept++];
+        r.a = a;
+        r.b = b;
         r.plane = k.plane;
         r.jn = r.jt1 = r.jt2 = 0;
         r.slot = -1;
     }
+    rows_.resize(kept);
 }
 
 double Solver::geometry(const Row& c, double* n) const {
@@ -294,8 +486,17 @@ void Solver::correct_positions() {
             const double sep = geometry(c, n);
             const double depth = -sep - slop;
             if (depth <= 0) continue;
-            any = true;
             Body& Bb = bodies_[c.b];
+            if (has_model(c)) {
+                const double wsum = linear_inverse_mass(A, n) + linear_inverse_mass(Bb, n);
+                if (!(wsum > kSingularInverseMass * (inverse_mass_scale(A) + inverse_mass_scale(Bb)))) continue;
+                any = true;
+                const double corr = beta * depth / wsum;
+                position_impulse(A, c.a, corr, n, jacobi);
+                if (c.plane < 0) position_impulse(Bb, c.b, -corr, n, jacobi);
+                continue;
+            }
+            any = true;
             const double wsum = A.im + Bb.im;
             const double corr = beta * depth / wsum;
             for (int k = 0; k < 3; ++k) {
@@ -308,10 +509,30 @@ void Solver::correct_positions() {
                 }
             }
         }
-        if (jacobi)
-            for (std::size_t b = 0; b < nb; ++b)
+        if (jacobi) {
+            for (std::size_t b = 0; b < n_rigid_; ++b)
                 for (int k = 0; k < 3; ++k) bodies_[b].p[k] += delta_[3 * b + k];
+            for (std::size_t b = n_rigid_; b < nb; ++b)
+                if (delta_[3 * b] != 0 || delta_[3 * b + 1] != 0 || delta_[3 * b + 2] != 0)
+                    model_impulse(bodies_[b], &delta_[3 * b], bodies_, true);
+        }
         if (!any) break;
+    }
+}
+
+void Solver::position_impulse(const Body& X, std::size_t index, double corr, const double* n, bool jacobi) {
+    const double l[3] = {corr * n[0], corr * n[1], corr * n[2]};
+    if (X.model < 0) { // a rigid body moves by l/m
+        for (int k = 0; k < 3; ++k) {
+            if (jacobi)
+                delta_[3 * index + static_cast<std::size_t>(k)] += X.im * l[k];
+            else
+                bodies_[index].p[k] += X.im * l[k];
+        }
+    } else if (jacobi) { // a model sphere: its impulse, applied through B at the end of the pass
+        for (int k = 0; k < 3; ++k) delta_[3 * index + static_cast<std::size_t>(k)] += l[k];
+    } else {
+        model_impulse(X, l, bodies_, true);
     }
 }
 
@@ -336,10 +557,24 @@ void Solver::setup_rows(double dt) {
         c.rb = c.plane >= 0 ? 0.0 : B.r;
         c.sep = geometry(c, c.n);
         tangent_basis(c.n, c.t1, c.t2);
-        const double im = sa * A.im + sb * B.im;
-        c.mn = 1 / im;
-        c.mt1 = 1 / (im + sa * c.ra * c.ra * quad(A.ii, c.t2) + sb * c.rb * c.rb * quad(B.ii, c.t2));
-        c.mt2 = 1 / (im + sa * c.ra * c.ra * quad(A.ii, c.t1) + sb * c.rb * c.rb * quad(B.ii, c.t1));
+        if (has_model(c)) {
+            // A model sphere's translational inverse mass depends on the direction, and a
+            // direction it cannot move along (K⁻¹ ≈ 0 on both sides) takes no impulse.
+            const double floor = kSingularInverseMass * (sa * inverse_mass_scale(A) + sb * inverse_mass_scale(B));
+            const double kn = sa * linear_inverse_mass(A, c.n) + sb * linear_inverse_mass(B, c.n);
+            const double k1 = sa * linear_inverse_mass(A, c.t1) + sb * linear_inverse_mass(B, c.t1) +
+                              sa * c.ra * c.ra * quad(A.ii, c.t2) + sb * c.rb * c.rb * quad(B.ii, c.t2);
+            const double k2 = sa * linear_inverse_mass(A, c.t2) + sb * linear_inverse_mass(B, c.t2) +
+                              sa * c.ra * c.ra * quad(A.ii, c.t1) + sb * c.rb * c.rb * quad(B.ii, c.t1);
+            c.mn = kn > floor ? 1 / kn : 0;
+            c.mt1 = k1 > floor ? 1 / k1 : 0;
+            c.mt2 = k2 > floor ? 1 / k2 : 0;
+        } else {
+            const double im = sa * A.im + sb * B.im;
+            c.mn = 1 / im;
+            c.mt1 = 1 / (im + sa * c.ra * c.ra * quad(A.ii, c.t2) + sb * c.rb * c.rb * quad(B.ii, c.t2));
+            c.mt2 = 1 / (im + sa * c.ra * c.ra * quad(A.ii, c.t1) + sb * c.rb * c.rb * quad(B.ii, c.t1));
+        }
         c.bias = -std::max(c.sep, 0.0) / dt;
         // μ from the sliding speed before the solve.
         double vt1, vt2;
@@ -348,18 +583,35 @@ void Solver::setup_rows(double dt) {
     }
 }
 
-void Solver::apply_normal(Row& c, double l, std::vector<Body>& B) const {
+void Solver::apply_normal(Row& c, double l, std::vector<Body>& B) {
     Body& A = B[c.a];
     Body& Bb = B[c.b];
+    if (A.model >= 0 || Bb.model >= 0) {
+        const double pa[3] = {l * c.n[0], l * c.n[1], l * c.n[2]}, pb[3] = {-pa[0], -pa[1], -pa[2]};
+        side_impulse(A, pa, nullptr, 0, B);
+        side_impulse(Bb, pb, nullptr, 0, B);
+        return;
+    }
     for (int k = 0; k < 3; ++k) {
         A.v[k] += A.im * l * c.n[k];
         Bb.v[k] -= Bb.im * l * c.n[k];
     }
 }
 
-void Solver::apply_tangent(Row& c, double l1, double l2, std::vector<Body>& B) const {
+void Solver::apply_tangent(Row& c, double l1, double l2, std::vector<Body>& B) {
     Body& A = B[c.a];
     Body& Bb = B[c.b];
+    if (A.model >= 0 || Bb.model >= 0) {
+        double pa[3], pb[3], u[3];
+        for (int k = 0; k < 3; ++k) {
+            pa[k] = l1 * c.t1[k] + l2 * c.t2[k];
+            pb[k] = -pa[k];
+            u[k] = l2 * c.t1[k] - l1 * c.t2[k];
+        }
+        side_impulse(A, pa, u, c.ra, B);
+        side_impulse(Bb, pb, u, c.rb, B);
+        return;
+    }
     double u[3], ia[3], ib[3];
     for (int k = 0; k < 3; ++k) {
         const double p = l1 * c.t1[k] + l2 * c.t2[k];
@@ -372,6 +624,19 @@ void Solver::apply_tangent(Row& c, double l1, double l2, std::vector<Body>& B) c
     for (int k = 0; k < 3; ++k) {
         A.w[k] += c.ra * ia[k];
         Bb.w[k] += c.rb * ib[k];
+    }
+}
+
+void Solver::side_impulse(Body& X, const double* p, const double* u, double r, std::vector<Body>& B) {
+    if (X.model >= 0) { // no spin: the impulse acts at the sphere's centre
+        model_impulse(X, p, B, false);
+        return;
+    }
+    for (int k = 0; k < 3; ++k) X.v[k] += X.im * p[k];
+    if (u != nullptr) {
+        double i[3];
+        mul_sym(X.ii, u, i);
+        for (int k = 0; k < 3; ++k) X.w[k] += r * i[k];
     }
 }
 
@@ -466,8 +731,9 @@ void Solver::solve_contacts() {
     }
 }
 
-void Solver::scatter(World& w) const {
-    for (std::size_t k = 0; k < ids_.size(); ++k) {
+void Solver::scatter(World& w) {
+    for (ModelScratch& m : models_) scatter_model(w, m);
+    for (std::size_t k = 0; k < n_rigid_; ++k) {
         const Index i = ids_[k];
         const Body& b = bodies_[k];
         w.at(kVX, i) = b.v[0], w.at(kVY, i) = b.v[1], w.at(kVZ, i) = b.v[2];
@@ -521,10 +787,7 @@ Domain writes_of(const Layout& layout, const ComponentSet& bodies) {
     return d;
 }
 
-} // namespace
-
-NumericRule contact_rule(const ComponentSet& bodies, std::vector<Plane> planes, ContactMaterial material,
-                         ContactOptions options, const std::shared_ptr<const Layout>& layout, bool sphere_pairs) {
+void validate(const std::vector<Plane>& planes, const ContactMaterial& material, const ContactOptions& options) {
     for (const Plane& p : planes) p.validate();
     if (!material.restitution || !material.friction) throw std::invalid_argument("contact_rule: a material curve is empty");
     if (options.position_iterations < 0 || options.velocity_iterations < 0 || options.restitution_iterations < 0)
@@ -534,14 +797,40 @@ NumericRule contact_rule(const ComponentSet& bodies, std::vector<Plane> planes, 
     if (!(options.slop >= 0) || !std::isfinite(options.slop))
         throw std::invalid_argument("contact_rule: the slop must be non-negative and finite");
     if (!std::isfinite(options.margin)) throw std::invalid_argument("contact_rule: the margin must be finite");
+}
+
+Domain reads_of(const Layout& layout, const ComponentSet& bodies) {
+    return Domain::of(layout, {"m", "inv_m", "iIxx", "iIyy", "iIzz", "iIxy", "iIxz", "iIyz", "radius", "qw", "qx", "qy", "qz"},
+                      bodies);
+}
+
+} // namespace
+
+NumericRule contact_rule(const ComponentSet& bodies, std::vector<Plane> planes, ContactMaterial material,
+                         ContactOptions options, const std::shared_ptr<const Layout>& layout, bool sphere_pairs) {
+    validate(planes, material, options);
     for (Index i : bodies.indices())
         if (i >= layout->components.size()) throw std::invalid_argument("contact_rule: a body is not in the world");
     auto solver = std::make_shared<Solver>(bodies, planes, std::move(material), options, layout, sphere_pairs);
     NumericRule r{sphere_pairs ? (planes.empty() ? "contact_spheres" : "contacts") : "contact_planes",
-                  writes_of(*layout, bodies),
-                  Domain::of(*layout, {"m", "inv_m", "iIxx", "iIyy", "iIzz", "iIxy", "iIxz", "iIyz", "radius", "qw", "qx", "qy", "qz"},
-                             bodies),
-                  nullptr, layout};
+                  writes_of(*layout, bodies), reads_of(*layout, bodies), nullptr, layout};
+    r.step = [solver](double dt, World& w) { solver->step(dt, w); };
+    return r;
+}
+
+NumericRule contact_rule(const Scene& scene, std::vector<Plane> planes, ContactMaterial material, ContactOptions options) {
+    validate(planes, material, options);
+    const auto& layout = scene.world.layout_ptr();
+    const ComponentSet all = scene.bodies | scene.spheres;
+    Domain writes = writes_of(*layout, all);
+    std::vector<Index> coordinates;
+    for (const PlacedModel& p : scene.models) coordinates.insert(coordinates.end(), p.coordinates.begin(), p.coordinates.end());
+    if (!coordinates.empty()) {
+        const ComponentSet c(std::move(coordinates));
+        writes = writes | Domain(scene.q, c) | Domain(scene.qd, c);
+    }
+    auto solver = std::make_shared<Solver>(scene.bodies, planes, std::move(material), options, layout, true, &scene);
+    NumericRule r{"contacts", std::move(writes), reads_of(*layout, all), nullptr, layout};
     r.step = [solver](double dt, World& w) { solver->step(dt, w); };
     return r;
 }

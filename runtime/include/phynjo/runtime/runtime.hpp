@@ -30,6 +30,7 @@
 #include "phynjo/runtime/collision/narrow_phase.hpp"
 
 #include "phynjo/runtime/contact/contact_solver.hpp"
+#include "phynjo/runtime/contact/scene.hpp"
 
 #include "phynjo/runtime/integrators/adaptive_verlet.hpp"
 #include "phynjo/runtime/integrators/dormand_prince.hpp"

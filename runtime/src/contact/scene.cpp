@@ -1,0 +1,208 @@
+// Scenes: rigid bodies and generated models in one world (scene.hpp). The contact side of the
+// coupling (effective masses and impulses through the sphere Jacobians) is in contact_solver.cpp.
+#include "phynjo/runtime/contact/scene.hpp"
+
+#include "phynjo/runtime/core/errors.hpp"
+#include "phynjo/runtime/integrators/lagrangian_midpoint.hpp"
+#include "phynjo/runtime/integrators/lagrangian_rattle.hpp"
+#include "phynjo/runtime/integrators/lagrangian_rk4.hpp"
+#include "phynjo/runtime/rigid/rigid_rules.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <set>
+#include <stdexcept>
+
+namespace phynjo::runtime {
+
+Scene make_scene(const Registry& components, const std::vector<RigidBody>& bodies, const std::vector<RigidInit>& init,
+                 std::vector<ModelInstance> models, const std::vector<std::string>& extra_fields) {
+    // The rigid part first, validated as make_rigid_world does.
+    World rigid = make_rigid_world(components, bodies, init);
+    std::set<std::string> names;
+    Registry reg = components;
+    std::vector<PlacedModel> placed;
+    for (ModelInstance& m : models) {
+        if (m.name.empty()) throw std::invalid_argument("make_scene: a model instance without a name");
+        if (!names.insert(m.name).second) throw std::invalid_argument("make_scene: two model instances named '" + m.name + "'");
+        const LagrangianSystem& s = m.system;
+        if (!s.mass_matrix || !s.initial_state || s.coordinate_names.size() != s.dof)
+            throw std::invalid_argument("make_scene: model '" + m.name + "' is not a complete LagrangianSystem");
+        if (s.n_spheres > 0 && (!s.shape_positions || !s.sphere_jacobians || !s.sphere_radii))
+            throw std::invalid_argument("make_scene: model '" + m.name + "' has spheres but no shape functions");
+        PlacedModel p;
+        p.name = m.name;
+        p.radii.resize(s.n_spheres);
+        if (s.n_spheres > 0) s.sphere_radii(p.radii);
+        std::size_t offset = 0;
+        for (std::size_t k = 0; k < s.n_shapes; ++k) {
+            if (s.shape_is_sphere[k]) {
+                const std::size_t j = p.spheres.size();
+                if (!(p.radii[j] > 0) || !std::isfinite(p.radii[j]))
+                    throw std::invalid_argument("make_scene: sphere '" + s.shape_names[k] + "' of model '" + m.name +
+                                                "' has radius " + std::to_string(p.radii[j]) + " m; it must be positive");
+                p.spheres.push_back(reg.add(m.name + "." + s.shape_names[k]));
+                p.centre.push_back(offset);
+            }
+            offset += s.shape_is_sphere[k] ? 3 : 6;
+        }
+        for (const std::string& c : s.coordinate_names) p.coordinates.push_back(reg.add(m.name + "." + c));
+        p.system = std::make_shared<const LagrangianSystem>(std::move(m.system));
+        placed.push_back(std::move(p));
+    }
+    std::vector<std::string> fields(kRigidFields.begin(), kRigidFields.end());
+    fields.insert(fields.end(), extra_fields.begin(), extra_fields.end());
+    for (const char* f : {"q", "qd"})
+        if (std::find(fields.begin(), fields.end(), f) != fields.end())
+            throw std::invalid_argument(std::string("make_scene: an extra field is named '") + f + "'");
+    fields.emplace_back("q");
+    fields.emplace_back("qd");
+    auto layout = std::make_shared<Layout>(reg, std::move(fields));
+    Scene scene{World(layout), ComponentSet::range(0, static_cast<Index>(components.size())), {}, std::move(placed),
+                layout->field("q"), layout->field("qd")};
+    World& w = scene.world;
+    for (FieldId f = 0; f < kRigidFieldCount; ++f)
+        for (Index i = 0; i < rigid.size(); ++i) w.at(f, i) = rigid.at(f, i);
+    std::vector<Index> spheres;
+    for (std::size_t k = 0; k < scene.models.size(); ++k) {
+        const PlacedModel& p = scene.models[k];
+        for (std::size_t j = 0; j < p.spheres.size(); ++j) {
+            w.at(kQW, p.spheres[j]) = 1; // proxies: identity orientation, no mass, the sphere's radius
+            w.at(kRadius, p.spheres[j]) = p.radii[j];
+            spheres.push_back(p.spheres[j]);
+        }
+        for (Index c : p.coordinates) w.at(kQW, c) = 1;
+        std::vector<double> q(p.system->dof), qd(p.system->dof);
+        p.system->initial_state(q, qd);
+        set_model_state(scene, k, q, qd);
+    }
+    scene.spheres = ComponentSet(std::move(spheres));
+    return scene;
+}
+
+void set_model_state(Scene& scene, std::size_t k, std::span<const double> q, std::span<const double> qdot) {
+    if (k >= scene.models.size()) throw std::invalid_argument("set_model_state: no model " + std::to_string(k));
+    const PlacedModel& p = scene.models[k];
+    if (q.size() != p.coordinates.size() || qdot.size() != p.coordinates.size())
+        throw std::invalid_argument("set_model_state: model '" + p.name + "' has " + std::to_string(p.coordinates.size()) +
+                                    " coordinates");
+    for (std::size_t i = 0; i < q.size(); ++i) {
+        if (!std::isfinite(q[i]) || !std::isfinite(qdot[i]))
+            throw std::invalid_argument("set_model_state: a non-finite state for model '" + p.name + "'");
+        scene.world.at(scene.q, p.coordinates[i]) = q[i];
+        scene.world.at(scene.qd, p.coordinates[i]) = qdot[i];
+    }
+    SphereSync sync;
+    sync_model_spheres(p, scene.q, scene.qd, scene.world.time, scene.world, sync);
+}
+
+std::vector<double> model_q(const Scene& scene, std::size_t k) {
+    std::vector<double> q;
+    for (Index c : scene.models.at(k).coordinates) q.push_back(scene.world.at(scene.q, c));
+    return q;
+}
+std::vector<double> model_qdot(const Scene& scene, std::size_t k) {
+    std::vector<double> v;
+    for (Index c : scene.models.at(k).coordinates) v.push_back(scene.world.at(scene.qd, c));
+    return v;
+}
+
+void sync_model_spheres(const PlacedModel& p, FieldId qf, FieldId qdf, double t, World& w, SphereSync& s) {
+    const LagrangianSystem& sys = *p.system;
+    const std::size_t n = sys.dof, ns = p.spheres.size();
+    if (ns == 0) return;
+    std::size_t nx = 0;
+    for (std::size_t k = 0; k < sys.n_shapes; ++k) nx += sys.shape_is_sphere[k] ? 3 : 6;
+    s.q.resize(n), s.qd.resize(n), s.X.resize(nx), s.Xp.resize(nx), s.Xm.resize(nx), s.J.resize(3 * ns * n);
+    for (std::size_t i = 0; i < n; ++i) {
+        s.q[i] = w.at(qf, p.coordinates[i]);
+        s.qd[i] = w.at(qdf, p.coordinates[i]);
+    }
+    // ∂X/∂t by a central difference (h ≈ ε^(1/3)): exactly 0 for a model without t.
+    const double h = 6e-6 * std::max(1.0, std::abs(t));
+    sys.shape_positions(t, s.q, s.X);
+    sys.shape_positions(t + h, s.q, s.Xp);
+    sys.shape_positions(t - h, s.q, s.Xm);
+    sys.sphere_jacobians(t, s.q, s.J);
+    for (std::size_t j = 0; j < ns; ++j) {
+        const Index c = p.spheres[j];
+        for (int a = 0; a < 3; ++a) {
+            const std::size_t x = p.centre[j] + static_cast<std::size_t>(a);
+            const double* row = &s.J[(3 * j + static_cast<std::size_t>(a)) * n];
+            double v = (s.Xp[x] - s.Xm[x]) / (2 * h);
+            for (std::size_t i = 0; i < n; ++i) v += row[i] * s.qd[i];
+            w.at(static_cast<FieldId>(kX + a), c) = s.X[x];
+            w.at(static_cast<FieldId>(kVX + a), c) = v;
+        }
+    }
+}
+
+NumericRule model_rule(const Scene& scene, std::size_t k, ModelIntegrator integrator, const ProjectionOptions& projection) {
+    if (k >= scene.models.size()) throw std::invalid_argument("model_rule: no model " + std::to_string(k));
+    const PlacedModel& p = scene.models[k];
+    const std::shared_ptr<const Layout>& layout = scene.world.layout_ptr();
+    struct Inner {
+        PlacedModel model;
+        World world;
+        Stepper stepper;
+        SphereSync sync;
+        FieldId q, qd;
+    };
+    World inner = make_lagrangian_world(*p.system);
+    NumericWorkflow wf = [&] {
+        switch (integrator) {
+        case ModelIntegrator::rk4: return lagrangian_rk4(*p.system, inner.layout_ptr(), projection);
+        case ModelIntegrator::midpoint: return lagrangian_midpoint(*p.system, inner.layout_ptr(), projection);
+        case ModelIntegrator::rattle: return lagrangian_rattle(*p.system, inner.layout_ptr(), projection);
+        }
+        throw std::invalid_argument("model_rule: unknown integrator");
+    }();
+    auto state = std::make_shared<Inner>(Inner{p, std::move(inner), Stepper(wf), {}, scene.q, scene.qd});
+    Domain writes = Domain(scene.q, ComponentSet(p.coordinates)) | Domain(scene.qd, ComponentSet(p.coordinates));
+    if (!p.spheres.empty())
+        writes = writes | Domain::of(*layout, {"x", "y", "z", "vx", "vy", "vz"}, ComponentSet(p.spheres));
+    NumericRule r{"model:" + p.name, std::move(writes), {}, nullptr, layout};
+    r.step = [state](double dt, World& w) {
+        Inner& s = *state;
+        const std::vector<Index>& c = s.model.coordinates;
+        for (std::size_t i = 0; i < c.size(); ++i) {
+            s.world.at(kGQ, static_cast<Index>(i)) = w.at(s.q, c[i]);
+            s.world.at(kGV, static_cast<Index>(i)) = w.at(s.qd, c[i]);
+        }
+        s.world.time = w.time;
+        s.stepper.step(s.world, dt);
+        for (std::size_t i = 0; i < c.size(); ++i) {
+            w.at(s.q, c[i]) = s.world.at(kGQ, static_cast<Index>(i));
+            w.at(s.qd, c[i]) = s.world.at(kGV, static_cast<Index>(i));
+        }
+        // The proxies at the end of the step (the interpreter advances w.time after the step).
+        sync_model_spheres(s.model, s.q, s.qd, s.world.time, w, s.sync);
+    };
+    return r;
+}
+
+NumericWorkflow scene_step(const Scene& scene, const Force3D& force, std::vector<Plane> planes, ContactMaterial material,
+                           ContactOptions options, ModelIntegrator integrator) {
+    using W = NumericWorkflow;
+    const auto& layout = scene.world.layout_ptr();
+    std::vector<W> parts, drifts;
+    if (!scene.bodies.empty()) {
+        parts.push_back(W::run(kick_force3d(force, scene.bodies, 1.0, layout)));
+        drifts.push_back(W::seq(W::run(drift_trans(scene.bodies, 1.0, layout)), W::run(drift_rot(scene.bodies, 1.0, layout))));
+    }
+    parts.push_back(W::run(contact_rule(scene, std::move(planes), std::move(material), options)));
+    for (std::size_t k = 0; k < scene.models.size(); ++k) drifts.push_back(W::run(model_rule(scene, k, integrator)));
+    if (drifts.size() == 1) parts.push_back(drifts.front());
+    if (drifts.size() > 1) parts.push_back(W::par(std::move(drifts)));
+    return W::seq(std::move(parts));
+}
+
+double scene_energy(const Scene& scene) {
+    double e = rigid_kinetic_energy(scene.world); // proxies and coordinates have no mass fields
+    for (std::size_t k = 0; k < scene.models.size(); ++k)
+        e += scene.models[k].system->energy(scene.world.time, model_q(scene, k), model_qdot(scene, k));
+    return e;
+}
+
+} // namespace phynjo::runtime
