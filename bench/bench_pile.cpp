@@ -10,7 +10,13 @@
 // the end (deepest sphere–sphere or sphere–wall overlap, measured the same way for all), maximum
 // speed and the fraction of spheres slower than 0.05 m/s at the end.
 //
+// The coupling (issue #16): the same pile with a .lag double pendulum (examples/models/striker.lag,
+// pivot above the middle of the box, released upside down) falling through it, in one scene
+// with one contact rule: `ratio pile_N_with_pendulum` = ms per step of the pile alone / with
+// the pendulum (both phynjo, best of three alternating runs each).
+//
 // Usage: bench_pile [N …]   (default 1000 8000 27000; PHYNJO_PILE_SIZES overrides too)
+#include "bench_striker.hpp"
 #include "phynjo/runtime/runtime.hpp"
 
 #include <btBulletDynamicsCommon.h>
@@ -21,6 +27,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
+#include <optional>
 #include <random>
 #include <sstream>
 #include <string>
@@ -33,15 +40,15 @@ namespace {
 constexpr double kR = 0.05, kSphereMass = 1.0, kG = 9.81, kDt = 1.0 / 240, kE = 0.5, kMu = 0.5, kBounceVel = 0.2;
 constexpr double kT = 2.0, kRest = 0.05;
 
-struct Scene {
+struct Pile {
     int n = 0;
     double side = 0; // walls at 0 and side on x and z
     std::vector<Eigen::Vector3d> start;
     std::vector<Plane> planes;
 };
 
-Scene make_scene(int count) {
-    Scene s;
+Pile make_pile(int count) {
+    Pile s;
     s.n = static_cast<int>(std::lround(std::cbrt(count)));
     const double a = kR * std::cbrt(16 * M_PI / 3); // (4/3 π r³)/a³ = 0.25
     s.side = s.n * a;
@@ -62,7 +69,7 @@ struct Result {
 };
 
 /// Penetration, speed and rest fraction, measured the same way for every engine.
-Result measure(const Scene& s, const std::vector<Eigen::Vector3d>& pos, const std::vector<Eigen::Vector3d>& vel) {
+Result measure(const Pile& s, const std::vector<Eigen::Vector3d>& pos, const std::vector<Eigen::Vector3d>& vel) {
     Registry reg;
     for (std::size_t i = 0; i < pos.size(); ++i) reg.add("s" + std::to_string(i));
     std::vector<RigidInit> init(pos.size());
@@ -84,22 +91,47 @@ const int kSteps = static_cast<int>(std::lround(kT / kDt));
 
 // ---- phynjo ----------------------------------------------------------------------------------
 
-Result run_phynjo(const Scene& s) {
+/// The pile alone (rigid_contact_step), or with the striker (scene_step): the spheres are the
+/// first components of either world.
+Result run_phynjo(const Pile& s, bool with_striker = false, double* striker_low = nullptr) {
     Registry reg;
     for (std::size_t i = 0; i < s.start.size(); ++i) reg.add("s" + std::to_string(i));
     std::vector<RigidInit> init(s.start.size());
     for (std::size_t i = 0; i < s.start.size(); ++i) init[i].position = s.start[i];
-    World w = make_rigid_world(reg, std::vector<RigidBody>(s.start.size(), RigidBody::solid_sphere(kSphereMass, kR)), init,
-                               contact_cache_fields());
+    const std::vector<RigidBody> spheres(s.start.size(), RigidBody::solid_sphere(kSphereMass, kR));
+    const ContactMaterial material{restitution_curve(kE, kBounceVel), constant_curve(kMu)};
     ContactOptions o; // defaults, stated in bench/RESULTS.md
-    Stepper st(rigid_contact_step(Force3D::gravity(kG), all_bodies(w), s.planes,
-                                  ContactMaterial{restitution_curve(kE, kBounceVel), constant_curve(kMu)}, o,
-                                  w.layout_ptr()));
+    std::vector<ModelInstance> models;
+    if (with_striker) {
+        striker::Parameters P;
+        P.l2 = 0.6, P.px = s.side / 2, P.py = 1.5, P.pz = s.side / 2;
+        models.push_back({"striker", striker::system(P)});
+    }
+    Scene scene = make_scene(reg, spheres, init, std::move(models), contact_cache_fields());
+    World& w = scene.world;
+    double low = 1e9;
+    std::optional<Stepper> st;
+    if (with_striker) {
+        // Upside down above the lattice (no overlap at the start), it falls through the pile.
+        set_model_state(scene, 0, std::vector<double>{2.5, 2.8}, std::vector<double>{0, 0});
+        st.emplace(scene_step(scene, Force3D::gravity(kG), s.planes, material, o));
+    } else {
+        st.emplace(rigid_contact_step(Force3D::gravity(kG), scene.bodies, s.planes, material, o, w.layout_ptr()));
+    }
     const auto t0 = Clock::now();
-    st.run(w, kDt, static_cast<std::size_t>(kSteps));
+    if (with_striker) {
+        const Index bob = scene.models[0].spheres[1];
+        for (int k = 0; k < kSteps; ++k) {
+            st->step(w, kDt);
+            low = std::min(low, w.at(kY, bob));
+        }
+    } else {
+        st->run(w, kDt, static_cast<std::size_t>(kSteps));
+    }
     const double sec = std::chrono::duration<double>(Clock::now() - t0).count();
+    if (striker_low != nullptr) *striker_low = low;
     std::vector<Eigen::Vector3d> pos, vel;
-    for (Index i = 0; i < w.size(); ++i) {
+    for (Index i : scene.bodies.indices()) {
         pos.push_back(position(w, i));
         vel.push_back(velocity(w, i));
     }
@@ -129,7 +161,7 @@ void ode_near(void* data, dGeomID a, dGeomID b) {
     }
 }
 
-Result run_ode(const Scene& s) {
+Result run_ode(const Pile& s) {
     dInitODE2(0);
     OdeCtx ctx{dWorldCreate(), dJointGroupCreate(0)};
     dWorldSetGravity(ctx.world, 0, -kG, 0);
@@ -175,7 +207,7 @@ Result run_ode(const Scene& s) {
 
 // ---- Bullet ----------------------------------------------------------------------------------
 
-Result run_bullet(const Scene& s) {
+Result run_bullet(const Pile& s) {
     btDefaultCollisionConfiguration config;
     btCollisionDispatcher dispatcher(&config);
     btDbvtBroadphase broadphase;
@@ -251,10 +283,23 @@ int main(int argc, char** argv) {
     std::printf("sphere pile: r = %.2f m, m = %.0f kg, e = %.1f (above %.1f m/s), mu = %.1f, dt = 1/240 s, %.0f s, 1 thread\n",
                 kR, kSphereMass, kE, kBounceVel, kMu, kT);
     for (int count : sizes) {
-        const Scene s = make_scene(count);
+        const Pile s = make_pile(count);
         const int n = s.n * s.n * s.n;
         const Result p = run_phynjo(s);
         print("phynjo", n, p);
+        // The coupling's cost: best of three alternating runs of each.
+        double alone = p.ms_per_step, with = 1e300, low = 0;
+        Result ps;
+        for (int rep = 0; rep < 3; ++rep) {
+            if (rep > 0) alone = std::min(alone, run_phynjo(s).ms_per_step);
+            ps = run_phynjo(s, true, &low);
+            with = std::min(with, ps.ms_per_step);
+        }
+        ps.ms_per_step = with;
+        print("+pend.", n, ps);
+        std::printf("  (the striker's lower bob reached y = %.2f m, in the pile; pile alone best of three: %.2f ms/step)\n", low,
+                    alone);
+        std::printf("ratio pile_%d_with_pendulum = %.2f\n", n, alone / with);
         const Result o = run_ode(s);
         print("ODE", n, o);
         const Result b = run_bullet(s);
