@@ -16,6 +16,7 @@
 // the pendulum (both phynjo, best of three alternating runs each).
 //
 // Usage: bench_pile [N …]   (default 1000 8000 27000; PHYNJO_PILE_SIZES overrides too)
+//        PILE_PROFILE=alone|pendulum bench_pile N: one phynjo run only (for profilers)
 #include "bench_striker.hpp"
 #include "phynjo/runtime/runtime.hpp"
 
@@ -285,6 +286,11 @@ int main(int argc, char** argv) {
     for (int count : sizes) {
         const Pile s = make_pile(count);
         const int n = s.n * s.n * s.n;
+        if (const char* only = std::getenv("PILE_PROFILE")) { // profiling aid: one phynjo run, nothing else
+            const Result r = run_phynjo(s, std::string(only) == "pendulum");
+            print(only, n, r);
+            continue;
+        }
         const Result p = run_phynjo(s);
         print("phynjo", n, p);
         // The coupling's cost: best of three alternating runs of each.

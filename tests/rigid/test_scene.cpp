@@ -300,6 +300,7 @@ TEST_CASE("Newton's cradle of five .lag pendulums hands over at T/4 + k T/2, lik
             prev = moving;
         }
     }
+    CAPTURE(who, when);
     REQUIRE(who.size() == 4);
     CHECK(who == std::vector<int>{4, 0, 4, 0}); // the rigid row's sequence (test_contacts: cradle)
     for (std::size_t k = 0; k < 4; ++k) {

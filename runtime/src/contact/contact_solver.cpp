@@ -20,9 +20,6 @@
 #include "phynjo/runtime/core/errors.hpp"
 #include "phynjo/runtime/rigid/rigid_world.hpp"
 
-#include <Eigen/Cholesky>
-#include <Eigen/Core>
-
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -65,8 +62,9 @@ struct ModelScratch {
     std::vector<double> q, qd, X, Xp, Xm, dq;
     std::vector<double> A; // 6 per sphere: xx, yy, zz, xy, xz, yz
     std::vector<double> acc; // Jacobi: position impulses per sphere (3 each)
-    Eigen::MatrixXd J, M, B, G, MinvGt, S, GB;
-    Eigen::LDLT<Eigen::MatrixXd> ldlt_m, ldlt_s;
+    // Row-major: J (3·ns × n), M (n × n, then its Cholesky factor), B (n × 3·ns), and for
+    // constraints G (nc × n), M⁻¹Gᵀ (n × nc), S = G M⁻¹ Gᵀ (nc × nc, then its factor), G B.
+    std::vector<double> J, M, B, G, MinvGt, S, GB;
     SphereSync sync;
 };
 
@@ -117,6 +115,40 @@ inline void tangent_velocity(const Row& c, const Body& A, const Body& B, double&
     vt2 = dot(dv, c.t2) + c.ra * dot(A.w, c.t1) + c.rb * dot(B.w, c.t1);
 }
 
+/// L Lᵀ = A in place (row-major n×n; the lower triangle becomes L); false unless A is
+/// positive definite (a pivot at or below 1e-14 of the largest diagonal entry).
+bool cholesky(double* A, std::size_t n) {
+    double dmax = 0;
+    for (std::size_t i = 0; i < n; ++i) dmax = std::max(dmax, A[i * n + i]);
+    for (std::size_t j = 0; j < n; ++j) {
+        double d = A[j * n + j];
+        for (std::size_t k = 0; k < j; ++k) d -= A[j * n + k] * A[j * n + k];
+        if (!(d > 1e-14 * dmax)) return false;
+        d = std::sqrt(d);
+        A[j * n + j] = d;
+        for (std::size_t i = j + 1; i < n; ++i) {
+            double v = A[i * n + j];
+            for (std::size_t k = 0; k < j; ++k) v -= A[i * n + k] * A[j * n + k];
+            A[i * n + j] = v / d;
+        }
+    }
+    return true;
+}
+
+/// Solves L Lᵀ x = b in place, b's entries `stride` apart (a column of a row-major matrix).
+void cholesky_solve(const double* L, std::size_t n, double* b, std::size_t stride) {
+    for (std::size_t i = 0; i < n; ++i) {
+        double v = b[i * stride];
+        for (std::size_t k = 0; k < i; ++k) v -= L[i * n + k] * b[k * stride];
+        b[i * stride] = v / L[i * n + i];
+    }
+    for (std::size_t i = n; i-- > 0;) {
+        double v = b[i * stride];
+        for (std::size_t k = i + 1; k < n; ++k) v -= L[k * n + i] * b[k * stride];
+        b[i * stride] = v / L[i * n + i];
+    }
+}
+
 /// Coulomb's disk: scales (x, y) back onto the circle of radius lim if it lies outside.
 inline void clamp_disk(double& x, double& y, double lim) {
     const double mag = std::sqrt(x * x + y * y);
@@ -152,18 +184,9 @@ public:
                 for (std::size_t k = 0; k < s.n_shapes; ++k) m.nx += s.shape_is_sphere[k] ? 3 : 6;
                 m.q.resize(n), m.qd.resize(n), m.dq.resize(n), m.X.resize(m.nx), m.Xp.resize(m.nx), m.Xm.resize(m.nx);
                 m.A.resize(6 * ns), m.acc.resize(3 * ns);
-                m.J.resize(static_cast<Eigen::Index>(3 * ns), static_cast<Eigen::Index>(n));
-                m.M.resize(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
-                m.B.resize(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(3 * ns));
-                m.ldlt_m = Eigen::LDLT<Eigen::MatrixXd>(static_cast<Eigen::Index>(n));
-                const auto nc = static_cast<Eigen::Index>(s.n_constraints);
-                if (nc > 0) {
-                    m.G.resize(nc, static_cast<Eigen::Index>(n));
-                    m.MinvGt.resize(static_cast<Eigen::Index>(n), nc);
-                    m.S.resize(nc, nc);
-                    m.GB.resize(nc, static_cast<Eigen::Index>(3 * ns));
-                    m.ldlt_s = Eigen::LDLT<Eigen::MatrixXd>(nc);
-                }
+                const std::size_t nc = s.n_constraints;
+                m.J.resize(3 * ns * n), m.M.resize(n * n), m.B.resize(n * 3 * ns);
+                m.G.resize(nc * n), m.MinvGt.resize(n * nc), m.S.resize(nc * nc), m.GB.resize(nc * 3 * ns);
                 ids_.insert(ids_.end(), p.spheres.begin(), p.spheres.end());
                 models_.push_back(std::move(m));
             }
@@ -188,6 +211,7 @@ public:
         bodies_.reserve(n + 1);
         snapshot_.reserve(n + 1);
         spheres_.reserve(n);
+        margins_.reserve(n);
         contacts_.reserve(contacts);
         rows_.reserve(contacts);
         delta_.reserve(3 * (n + 1));
@@ -239,6 +263,8 @@ private:
     std::vector<Body> bodies_; // ids_.size() bodies, then one static body
     std::vector<Body> snapshot_; // Jacobi: the bodies at the start of a pass
     std::vector<SphereBB> spheres_;
+    std::vector<double> margins_; // per body (detect)
+    std::vector<CandidatePair> model_pairs_; // the broad phase's pairs and those of model spheres
     std::vector<Contact> contacts_;
     std::vector<Row> rows_;
     std::vector<double> delta_; // Jacobi position accumulators: 3 per body
@@ -312,8 +338,7 @@ void Solver::gather(const World& w) {
 
 void Solver::gather_model(const World& w, ModelScratch& m, std::size_t index) {
     const LagrangianSystem& s = *m.placed.system;
-    const std::size_t n = s.dof, ns = m.placed.spheres.size();
-    const auto en = static_cast<Eigen::Index>(n);
+    const std::size_t n = s.dof, ns = m.placed.spheres.size(), nb = 3 * ns, nc = s.n_constraints;
     for (std::size_t i = 0; i < n; ++i) {
         m.q[i] = w.at(q_field_, m.placed.coordinates[i]);
         m.qd[i] = w.at(qd_field_, m.placed.coordinates[i]);
@@ -325,57 +350,63 @@ void Solver::gather_model(const World& w, ModelScratch& m, std::size_t index) {
     s.shape_positions(t, m.q, m.X);
     s.shape_positions(t + h, m.q, m.Xp);
     s.shape_positions(t - h, m.q, m.Xm);
-    // J and M are row-major in the generated code; Eigen's are column-major: fill by rows.
-    {
-        std::vector<double>& buf = m.sync.J;
-        buf.resize(3 * ns * n);
-        s.sphere_jacobians(t, m.q, buf);
-        for (std::size_t r = 0; r < 3 * ns; ++r)
-            for (std::size_t c = 0; c < n; ++c) m.J(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(c)) = buf[r * n + c];
-        buf.resize(n * n);
-        s.mass_matrix(t, m.q, m.qd, buf);
-        for (std::size_t r = 0; r < n; ++r)
-            for (std::size_t c = 0; c < n; ++c) m.M(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(c)) = buf[r * n + c];
-    }
-    m.ldlt_m.compute(m.M);
-    if (m.ldlt_m.info() != Eigen::Success || !(m.ldlt_m.vectorD().minCoeff() > 0))
-        throw Error("contact: the mass matrix of model '" + m.placed.name + "' is singular at t = " + std::to_string(t) +
-                    " s: its spheres' effective masses are undefined");
-    m.B = m.J.transpose();
-    m.ldlt_m.solveInPlace(m.B); // M⁻¹ Jᵀ
-    if (s.n_constraints > 0) {   // B ← B − M⁻¹Gᵀ (G M⁻¹ Gᵀ)⁻¹ G B
-        std::vector<double>& buf = m.sync.X;
-        buf.resize(s.n_constraints * n);
-        s.constraint_matrix(t, m.q, buf);
-        for (std::size_t r = 0; r < s.n_constraints; ++r)
-            for (std::size_t c = 0; c < n; ++c) m.G(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(c)) = buf[r * n + c];
-        m.MinvGt = m.G.transpose();
-        m.ldlt_m.solveInPlace(m.MinvGt);
-        m.S.noalias() = m.G * m.MinvGt;
-        m.ldlt_s.compute(m.S);
-        if (m.ldlt_s.info() != Eigen::Success || !(m.ldlt_s.vectorD().minCoeff() > 1e-14 * m.S.diagonal().maxCoeff()))
+    s.sphere_jacobians(t, m.q, m.J); // 3·ns × n, row-major
+    s.mass_matrix(t, m.q, m.qd, m.M);
+    if (!cholesky(m.M.data(), n))
+        throw Error("contact: the mass matrix of model '" + m.placed.name + "' is not positive definite at t = " +
+                    std::to_string(t) + " s: its spheres' effective masses are undefined");
+    // B = M⁻¹ Jᵀ (n × 3·ns, row-major), column by column.
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t c = 0; c < nb; ++c) m.B[i * nb + c] = m.J[c * n + i];
+    for (std::size_t c = 0; c < nb; ++c) cholesky_solve(m.M.data(), n, &m.B[c], nb);
+    if (nc > 0) { // B ← B − M⁻¹Gᵀ (G M⁻¹ Gᵀ)⁻¹ G B: the impulses keep G Δq' = 0
+        s.constraint_matrix(t, m.q, m.G); // nc × n
+        for (std::size_t i = 0; i < n; ++i)
+            for (std::size_t k = 0; k < nc; ++k) m.MinvGt[i * nc + k] = m.G[k * n + i];
+        for (std::size_t k = 0; k < nc; ++k) cholesky_solve(m.M.data(), n, &m.MinvGt[k], nc);
+        for (std::size_t a = 0; a < nc; ++a)
+            for (std::size_t b = 0; b < nc; ++b) {
+                double v = 0;
+                for (std::size_t i = 0; i < n; ++i) v += m.G[a * n + i] * m.MinvGt[i * nc + b];
+                m.S[a * nc + b] = v;
+            }
+        if (!cholesky(m.S.data(), nc))
             throw Error("contact: the constraints of model '" + m.placed.name + "' are dependent at t = " + std::to_string(t) +
                         " s (G M⁻¹ Gᵀ is singular)");
-        m.GB.noalias() = m.G * m.B;
-        m.ldlt_s.solveInPlace(m.GB);
-        m.B.noalias() -= m.MinvGt * m.GB;
+        for (std::size_t a = 0; a < nc; ++a)
+            for (std::size_t c = 0; c < nb; ++c) {
+                double v = 0;
+                for (std::size_t i = 0; i < n; ++i) v += m.G[a * n + i] * m.B[i * nb + c];
+                m.GB[a * nb + c] = v;
+            }
+        for (std::size_t c = 0; c < nb; ++c) cholesky_solve(m.S.data(), nc, &m.GB[c], nb);
+        for (std::size_t i = 0; i < n; ++i)
+            for (std::size_t c = 0; c < nb; ++c) {
+                double v = 0;
+                for (std::size_t a = 0; a < nc; ++a) v += m.MinvGt[i * nc + a] * m.GB[a * nb + c];
+                m.B[i * nb + c] -= v;
+            }
     }
-    (void)en;
     for (std::size_t j = 0; j < ns; ++j) {
-        const auto c = static_cast<Eigen::Index>(3 * j);
-        const Eigen::Matrix3d a = m.J.middleRows(c, 3) * m.B.middleCols(c, 3);
-        double* A = &m.A[6 * j];
-        A[0] = a(0, 0), A[1] = a(1, 1), A[2] = a(2, 2);
-        A[3] = 0.5 * (a(0, 1) + a(1, 0)), A[4] = 0.5 * (a(0, 2) + a(2, 0)), A[5] = 0.5 * (a(1, 2) + a(2, 1));
+        double a[3][3];
+        for (std::size_t r = 0; r < 3; ++r)
+            for (std::size_t c = 0; c < 3; ++c) {
+                double v = 0;
+                for (std::size_t i = 0; i < n; ++i) v += m.J[(3 * j + r) * n + i] * m.B[i * nb + 3 * j + c];
+                a[r][c] = v;
+            }
+        double* A = &m.A[6 * j]; // J_s B_s: symmetric up to round-off
+        A[0] = a[0][0], A[1] = a[1][1], A[2] = a[2][2];
+        A[3] = 0.5 * (a[0][1] + a[1][0]), A[4] = 0.5 * (a[0][2] + a[2][0]), A[5] = 0.5 * (a[1][2] + a[2][1]);
         Body& b = bodies_[m.first + j];
         b = Body{};
         b.model = static_cast<int>(index);
         b.sphere = static_cast<int>(j);
         b.r = m.placed.radii[j];
-        for (int k = 0; k < 3; ++k) {
-            const std::size_t x = m.placed.centre[j] + static_cast<std::size_t>(k);
+        for (std::size_t k = 0; k < 3; ++k) {
+            const std::size_t x = m.placed.centre[j] + k;
             double v = (m.Xp[x] - m.Xm[x]) / (2 * h);
-            for (std::size_t i = 0; i < n; ++i) v += m.J(c + k, static_cast<Eigen::Index>(i)) * m.qd[i];
+            for (std::size_t i = 0; i < n; ++i) v += m.J[(3 * j + k) * n + i] * m.qd[i];
             b.p[k] = m.X[x];
             b.v[k] = v;
         }
@@ -384,21 +415,21 @@ void Solver::gather_model(const World& w, ModelScratch& m, std::size_t index) {
 
 void Solver::model_impulse(const Body& X, const double* lambda, std::vector<Body>& B, bool position) {
     ModelScratch& m = models_[static_cast<std::size_t>(X.model)];
-    const std::size_t n = m.q.size(), ns = m.placed.spheres.size();
-    const auto c = static_cast<Eigen::Index>(3 * X.sphere);
+    const std::size_t n = m.q.size(), ns = m.placed.spheres.size(), nb = 3 * ns;
+    const std::size_t c = 3 * static_cast<std::size_t>(X.sphere);
     for (std::size_t i = 0; i < n; ++i) {
-        const auto r = static_cast<Eigen::Index>(i);
-        m.dq[i] = m.B(r, c) * lambda[0] + m.B(r, c + 1) * lambda[1] + m.B(r, c + 2) * lambda[2];
+        const double* row = &m.B[i * nb + c];
+        m.dq[i] = row[0] * lambda[0] + row[1] * lambda[1] + row[2] * lambda[2];
     }
     std::vector<double>& target = position ? m.q : m.qd;
     for (std::size_t i = 0; i < n; ++i) target[i] += m.dq[i];
     for (std::size_t j = 0; j < ns; ++j) {
         Body& b = B[m.first + j];
         double* out = position ? b.p : b.v;
-        for (int k = 0; k < 3; ++k) {
-            const auto r = static_cast<Eigen::Index>(3 * j + static_cast<std::size_t>(k));
+        for (std::size_t k = 0; k < 3; ++k) {
+            const double* row = &m.J[(3 * j + k) * n];
             double d = 0;
-            for (std::size_t i = 0; i < n; ++i) d += m.J(r, static_cast<Eigen::Index>(i)) * m.dq[i];
+            for (std::size_t i = 0; i < n; ++i) d += row[i] * m.dq[i];
             out[k] += d;
         }
     }
@@ -414,26 +445,47 @@ void Solver::scatter_model(World& w, ModelScratch& m) {
 
 void Solver::detect(const World& w, double dt) {
     contacts_.clear();
-    double margin = options_.margin;
-    if (margin < 0) {
-        double vmax = 0, rmax = 0;
-        for (std::size_t k = 0; k < ids_.size(); ++k) {
-            const Body& b = bodies_[k];
-            vmax = std::max(vmax, dot(b.v, b.v));
-            rmax = std::max(rmax, b.r);
-        }
-        margin = std::min(rmax, 2 * std::sqrt(vmax) * dt);
+    // Speculative margins (ContactOptions::margin): the given one for every pair, or per body
+    // min(r, max(2|v|dt, slop, r/50)) — twice the distance it can cover in the step, and at
+    // least a small fixed distance so that bodies at rest that (nearly) touch keep their
+    // contacts — and a pair's margin the sum of its two.
+    const bool uniform = options_.margin >= 0;
+    margins_.resize(ids_.size());
+    for (std::size_t k = 0; k < ids_.size(); ++k) {
+        const Body& b = bodies_[k];
+        margins_[k] = uniform ? 0.5 * options_.margin
+                              : std::min(b.r, std::max(2 * std::sqrt(dot(b.v, b.v)) * dt, std::max(options_.slop, 0.02 * b.r)));
     }
     if (sphere_pairs_) {
         spheres_.resize(ids_.size());
         for (std::size_t k = 0; k < ids_.size(); ++k) {
             const Body& b = bodies_[k];
-            spheres_[k] = SphereBB{{b.p[0], b.p[1], b.p[2]}, b.r + 0.5 * margin};
+            spheres_[k] = SphereBB{{b.p[0], b.p[1], b.p[2]}, b.r + margins_[k]};
         }
-        manager_.update(std::span<const SphereBB>(spheres_));
-        sphere_sphere_contacts(w, manager_.run_broad_phase(), ids_, margin, contacts_);
+        // The rigid bodies through the broad phase; the few model spheres, often larger than
+        // the pile's (a uniform grid sizes its cells by the largest), against every body.
+        manager_.update(std::span<const SphereBB>(spheres_.data(), n_rigid_));
+        const std::vector<CandidatePair>* pairs = &manager_.run_broad_phase();
+        if (n_rigid_ < ids_.size()) {
+            model_pairs_ = *pairs;
+            for (std::size_t k = n_rigid_; k < ids_.size(); ++k)
+                for (std::size_t j = 0; j < k; ++j) {
+                    if (j >= n_rigid_ && bodies_[j].model == bodies_[k].model) continue; // one model: no pair
+                    const double reach = spheres_[j].radius + spheres_[k].radius;
+                    if ((spheres_[j].center - spheres_[k].center).squaredNorm() < reach * reach)
+                        model_pairs_.push_back({static_cast<Index>(j), static_cast<Index>(k)});
+                }
+            pairs = &model_pairs_;
+        }
+        if (uniform)
+            sphere_sphere_contacts(w, *pairs, ids_, options_.margin, contacts_);
+        else
+            sphere_sphere_contacts(w, *pairs, ids_, std::span<const double>(margins_), contacts_);
     }
-    sphere_plane_contacts(w, ids_, planes_, margin, contacts_);
+    if (uniform)
+        sphere_plane_contacts(w, ids_, planes_, options_.margin, contacts_);
+    else
+        sphere_plane_contacts(w, ids_, planes_, std::span<const double>(margins_), contacts_);
     // Scratch indices instead of component indices.
     local_.resize(w.size());
     for (std::size_t k = 0; k < ids_.size(); ++k) local_[ids_[k]] = static_cast<Index>(k);

@@ -39,5 +39,11 @@ void sphere_sphere_contacts(const World& w, std::span<const CandidatePair> pairs
 /// Sphere–plane contacts: separation = n·p − offset − r, kept when below `margin`.
 void sphere_plane_contacts(const World& w, std::span<const Index> bodies, std::span<const Plane> planes,
                            double margin, std::vector<Contact>& out);
+/// The same with a margin per body (margins[k] for ids[k]): a pair is kept when its surfaces
+/// are closer than margins[a] + margins[b], a body and a plane closer than margins[a].
+void sphere_sphere_contacts(const World& w, std::span<const CandidatePair> pairs, std::span<const Index> ids,
+                            std::span<const double> margins, std::vector<Contact>& out);
+void sphere_plane_contacts(const World& w, std::span<const Index> bodies, std::span<const Plane> planes,
+                           std::span<const double> margins, std::vector<Contact>& out);
 
 } // namespace phynjo::runtime
