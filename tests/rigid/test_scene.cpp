@@ -37,8 +37,8 @@ Scene bob_and_ball(double m1, double w, double m2, const Eigen::Vector3d& at, do
 }
 
 /// The contact rule alone, once: the impulses of an instant.
-void contacts_once(Scene& sc, ContactMaterial mat, double dt = 1e-3) {
-    Stepper st(NumericWorkflow::run(contact_rule(sc, {}, std::move(mat), {})));
+void contacts_once(Scene& sc, ContactMaterial mat, double dt = 1e-3, ContactOptions options = {}) {
+    Stepper st(NumericWorkflow::run(contact_rule(sc, {}, std::move(mat), options)));
     st.step(sc.world, dt);
 }
 
@@ -57,10 +57,13 @@ double angular_momentum_z(const Scene& sc, double m1, double m2) {
 TEST_CASE("a pendulum bob striking a resting sphere head-on: the textbook split of speeds", "[scene][physics]") {
     for (const auto& [m1, m2, e] : {std::tuple{1.0, 1.0, 1.0}, std::tuple{1.0, 1.0, 0.5}, std::tuple{2.0, 1.0, 1.0},
                                    std::tuple{2.0, 1.0, 0.3}, std::tuple{1.0, 3.0, 0.8}}) {
-        CAPTURE(m1, m2, e);
+      for (const ContactScheme scheme : {ContactScheme::gauss_seidel, ContactScheme::jacobi}) {
+        CAPTURE(m1, m2, e, scheme == ContactScheme::jacobi);
         const double v = 1.5; // the bob's speed along +x at the bottom (l = 1)
         Scene sc = bob_and_ball(m1, v, m2, {0.1, -1, 0});
-        contacts_once(sc, elastic(e));
+        ContactOptions o;
+        o.scheme = scheme;
+        contacts_once(sc, elastic(e), 1e-3, o);
         const double v1 = (m1 - e * m2) * v / (m1 + m2), v2 = (1 + e) * m1 * v / (m1 + m2);
         CHECK(model_qdot(sc, 0)[0] == Approx(v1).margin(1e-12));
         CHECK(velocity(sc.world, 0).x() == Approx(v2).margin(1e-12));
@@ -71,6 +74,7 @@ TEST_CASE("a pendulum bob striking a resting sphere head-on: the textbook split 
             const double before = 0.5 * m1 * v * v;
             CHECK(0.5 * m1 * v1 * v1 + 0.5 * m2 * v2 * v2 == Approx(before).epsilon(1e-13));
         }
+      }
     }
     // Equal masses, e = 1: the bob stops and the ball leaves with its speed, through whole steps.
     Scene sc = bob_and_ball(1, 1.5, 1, {0.1, -1, 0});
@@ -142,6 +146,30 @@ TEST_CASE("a model ball resting on the ground: no drift, no jitter, overlap belo
     // impulse zeroes the approach at the start of the step, then the model steps under gravity.
     CHECK(worst_speed <= g * dt * (1 + 1e-9));
     CHECK(max_penetration(sc.world, sc.spheres, std::vector<Plane>{Plane::ground()}) < 0.5e-3);
+}
+
+// Bugs caught: a position correction applied to the proxy only (the model would stay in the
+// ground and the correction repeat forever), one not divided by the effective mass (a model
+// launched out of the overlap), Jacobi's accumulated corrections lost for model spheres.
+TEST_CASE("a model sphere overlapping the ground at the start is pushed out gently", "[scene][physics]") {
+    for (const ContactScheme scheme : {ContactScheme::gauss_seidel, ContactScheme::jacobi}) {
+        CAPTURE(scheme == ContactScheme::jacobi);
+        Scene sc = make_scene(Registry{}, {}, {}, {ModelInstance{"ball", planar_ball::system({})}}, contact_cache_fields());
+        const double q0[2] = {0, 0.08}, v0[2] = {0, 0}; // 2 cm into the ground (r = 0.1 m)
+        set_model_state(sc, 0, q0, v0);
+        CHECK(max_penetration(sc.world, sc.spheres, std::vector<Plane>{Plane::ground()}) == Approx(0.02));
+        ContactOptions o;
+        o.scheme = scheme;
+        Stepper st(scene_step(sc, Force3D{}, {Plane::ground()}, elastic(0.5, 0.5), o));
+        double top = 0;
+        for (int k = 0; k < 500; ++k) {
+            st.step(sc.world, 1e-3);
+            top = std::max(top, model_q(sc, 0)[1]);
+        }
+        CHECK(max_penetration(sc.world, sc.spheres, std::vector<Plane>{Plane::ground()}) < 0.2e-3);
+        CHECK(top < 0.1 + 1e-3);                      // out of the ground, not thrown up
+        CHECK(std::abs(model_qdot(sc, 0)[1]) < 0.02); // position correction moves q, not q'
+    }
 }
 
 // Bugs caught: an impulse that ignores the constraints (B = M⁻¹Jᵀ without the projection: the
