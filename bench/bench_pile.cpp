@@ -11,7 +11,8 @@
 // speed and the fraction of spheres slower than 0.05 m/s at the end.
 //
 // The coupling (issue #16): the same pile with a .lag double pendulum (examples/models/striker.lag,
-// pivot above the middle of the box, released upside down) falling through it, in one scene
+// pivot above the middle of the box, released upside down, lengths scaled with the box: at
+// N = 1,000 links of 0.5 and 0.6 m under a pivot 1.5 m high) falling into it, in one scene
 // with one contact rule: `ratio pile_N_with_pendulum` = ms per step of the pile alone / with
 // the pendulum (both phynjo, best of three alternating runs each).
 //
@@ -105,7 +106,8 @@ Result run_phynjo(const Pile& s, bool with_striker = false, double* striker_low 
     std::vector<ModelInstance> models;
     if (with_striker) {
         striker::Parameters P;
-        P.l2 = 0.6, P.px = s.side / 2, P.py = 1.5, P.pz = s.side / 2;
+        const double f = s.n / 10.0; // the geometry of N = 1,000, scaled with the box
+        P.l1 = 0.5 * f, P.l2 = 0.6 * f, P.px = s.side / 2, P.py = 1.5 * f, P.pz = s.side / 2;
         models.push_back({"striker", striker::system(P)});
     }
     Scene scene = make_scene(reg, spheres, init, std::move(models), contact_cache_fields());

@@ -61,7 +61,6 @@ struct ModelScratch {
     std::size_t nx = 0;    // entries of shape_positions
     std::vector<double> q, qd, X, Xp, Xm, dq;
     std::vector<double> A; // 6 per sphere: xx, yy, zz, xy, xz, yz
-    std::vector<double> acc; // Jacobi: position impulses per sphere (3 each)
     // Row-major: J (3·ns × n), M (n × n, then its Cholesky factor), B (n × 3·ns), and for
     // constraints G (nc × n), M⁻¹Gᵀ (n × nc), S = G M⁻¹ Gᵀ (nc × nc, then its factor), G B.
     std::vector<double> J, M, B, G, MinvGt, S, GB;
@@ -183,7 +182,7 @@ public:
                 const std::size_t n = s.dof, ns = p.spheres.size();
                 for (std::size_t k = 0; k < s.n_shapes; ++k) m.nx += s.shape_is_sphere[k] ? 3 : 6;
                 m.q.resize(n), m.qd.resize(n), m.dq.resize(n), m.X.resize(m.nx), m.Xp.resize(m.nx), m.Xm.resize(m.nx);
-                m.A.resize(6 * ns), m.acc.resize(3 * ns);
+                m.A.resize(6 * ns);
                 const std::size_t nc = s.n_constraints;
                 m.J.resize(3 * ns * n), m.M.resize(n * n), m.B.resize(n * 3 * ns);
                 m.G.resize(nc * n), m.MinvGt.resize(n * nc), m.S.resize(nc * nc), m.GB.resize(nc * 3 * ns);
