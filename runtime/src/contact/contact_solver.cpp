@@ -217,6 +217,7 @@ public:
         split_.reserve(n + 1);
         local_.reserve(layout_->components.size());
         manager_.reserve(n, n * kReservedContactsPerBody);
+        if (n_rigid_ < n) model_pairs_.reserve(n * kReservedContactsPerBody);
     }
 
     void step(double dt, World& w);
