@@ -7,6 +7,7 @@
 #include "phynjo/runtime/integrators/lagrangian_midpoint.hpp"
 #include "phynjo/runtime/integrators/lagrangian_rattle.hpp"
 #include "phynjo/runtime/integrators/lagrangian_rk4.hpp"
+#include "phynjo/runtime/models/ensemble.hpp"
 #include "phynjo/runtime/models/events.hpp"
 
 #include <algorithm>
@@ -52,6 +53,8 @@ void help(const char* prog, const ModelCommandLine& model, const LagrangianSyste
                 "          [--energy-tolerance TOL [--fail-on-drift]] [--project-initial]\n"
                 "          [--projection-tolerance TOL] [--rtol R] [--atol A]\n"
                 "          [--events FILE] [--rest-speed V] [--max-events-per-step N] [--shapes FILE]\n"
+                "       %s --grid NAME=LO:HI:N... [--uniform NAME=LO:HI... --samples K [--seed S]]\n"
+                "          --summary FILE [--threads N] [the options of one run]\n"
                 "Simulates the model %.*s from its initial state and writes CSV: t, q..., q'..., E\n"
                 "(and, for a model with constraints, their multipliers lambda_NAME...).\n"
                 "  --t-end T              end time in s (default 10); the run ends exactly at T\n"
@@ -93,9 +96,24 @@ void help(const char* prog, const ModelCommandLine& model, const LagrangianSyste
                 "                         leave the event's guard on its armed side (default: off)\n"
                 "  --max-events-per-step N  more events than N in one step DT is an error (Zeno;\n"
                 "                         default 100); so are geometrically shrinking intervals\n"
+                "Sweeps: many runs from other parameters or initial values, one summary row each.\n"
+                "  --grid NAME=LO:HI:N    N values LO + i (HI - LO)/(N - 1) of NAME (repeatable: the\n"
+                "                         runs are the grid's points, the first axis slowest); NAME is a\n"
+                "                         parameter or input, a coordinate (its initial value) or NAME'\n"
+                "                         (its initial velocity)\n"
+                "  --uniform NAME=LO:HI   Monte Carlo: NAME uniform on [LO, HI) (repeatable), --samples K\n"
+                "                         draws (at each grid point), reproducible from --seed S (default 0)\n"
+                "  --summary FILE         one CSV row per run, in run order: run, the swept values, status\n"
+                "                         (finished, stopped by an event, failed), t at the end, the state\n"
+                "                         there (end_...), when each event first fired (empty: never), the\n"
+                "                         largest relative energy error, the reason of a stop or failure.\n"
+                "                         The same bytes for any --threads. Run again with the same\n"
+                "                         options, a summary interrupted (killed) goes on from its last\n"
+                "                         complete row; a summary of other options is refused\n"
+                "  --threads N            run the sweep on N threads (default 1)\n"
                 "Exit status: 0 done, 1 the run stopped (the message says why and when), 2 usage error,\n"
                 "3 energy drift beyond the tolerance (with --fail-on-drift).\n",
-                prog, static_cast<int>(model.model_name.size()), model.model_name.data(), params.empty() ? "(none)" : params.c_str(),
+                prog, prog, static_cast<int>(model.model_name.size()), model.model_name.data(), params.empty() ? "(none)" : params.c_str(),
                 coords.c_str(), events.empty() ? "(none)" : events.c_str());
 }
 
@@ -111,6 +129,9 @@ int model_main(int argc, char** argv, const ModelCommandLine& model) {
     std::optional<double> rtol, atol;
     long every = 0;
     std::vector<std::pair<std::string, double>> inits;
+    // a sweep (ensemble.hpp): its options, and the others that decide its results
+    SweepCommand sweep;
+    bool sweeping = false, single_run_output = false;
     try {
         for (int i = 1; i < argc; ++i) {
             const std::string a = argv[i];
@@ -130,7 +151,27 @@ int model_main(int argc, char** argv, const ModelCommandLine& model) {
                 if (!v) throw UsageError{std::string(opt) + ": '" + kv.substr(eq + 1) + "' is not a number (in '" + kv + "')"};
                 return std::pair{kv.substr(0, eq), *v};
             };
-            if (a == "--t-end") t_end = num("--t-end");
+            if (a == "--grid" || a == "--uniform") {
+                const std::string v = value(a.c_str());
+                try {
+                    (a == "--grid" ? sweep.plan.grid : sweep.plan.uniform)
+                        .push_back(a == "--grid" ? parse_grid_axis(v) : parse_uniform_axis(v));
+                } catch (const std::invalid_argument& e) {
+                    throw UsageError{a + ": " + e.what()};
+                }
+                sweeping = true;
+            } else if (a == "--samples" || a == "--seed" || a == "--threads") {
+                const std::string v = value(a.c_str());
+                const auto k = whole_number(v);
+                if (!k || *k < (a == "--seed" ? 0 : 1)) throw UsageError{a + ": '" + v + "' is not a " + (a == "--seed" ? "non-negative" : "positive") + " whole number"};
+                if (a == "--samples") sweep.plan.samples = static_cast<std::size_t>(*k);
+                else if (a == "--seed") sweep.plan.seed = static_cast<std::uint64_t>(*k);
+                else sweep.threads = static_cast<unsigned>(std::min<long>(*k, 1024));
+                sweeping = sweeping || a != "--threads";
+            } else if (a == "--summary") {
+                sweep.summary = value("--summary");
+                sweeping = true;
+            } else if (a == "--t-end") t_end = num("--t-end");
             else if (a == "--dt") dt = num("--dt");
             else if (a == "--integrator") integrator = value("--integrator");
             else if (a == "--rtol" || a == "--atol") {
@@ -143,13 +184,13 @@ int model_main(int argc, char** argv, const ModelCommandLine& model) {
                 const auto k = whole_number(v);
                 if (!k || *k <= 0) throw UsageError{"--every: '" + v + "' is not a positive whole number"};
                 every = *k;
-            } else if (a == "--output" || a == "-o") output = value("--output");
+            } else if (a == "--output" || a == "-o") output = value("--output"), single_run_output = true;
             else if (a == "--energy-tolerance") {
                 energy_tolerance = num("--energy-tolerance");
                 if (!(*energy_tolerance > 0)) throw UsageError{"--energy-tolerance must be positive"};
             } else if (a == "--fail-on-drift") fail_on_drift = true;
-            else if (a == "--events") events_output = value("--events");
-            else if (a == "--shapes") shapes_output = value("--shapes");
+            else if (a == "--events") events_output = value("--events"), single_run_output = true;
+            else if (a == "--shapes") shapes_output = value("--shapes"), single_run_output = true;
             else if (a == "--rest-speed") {
                 event_options.rest_speed = num("--rest-speed");
                 if (!(event_options.rest_speed > 0)) throw UsageError{"--rest-speed must be positive"};
@@ -198,11 +239,39 @@ int model_main(int argc, char** argv, const ModelCommandLine& model) {
         if ((rtol || atol) && integrator != "cvode" && integrator != "ida" && integrator != "dopri")
             throw UsageError{"--rtol and --atol go with --integrator cvode, ida or dopri"};
         if (fail_on_drift && !energy_tolerance) throw UsageError{"--fail-on-drift needs --energy-tolerance"};
+        if (sweeping) {
+            if (sweep.summary.empty()) throw UsageError{"a sweep (--grid, --uniform, --samples) needs --summary FILE"};
+            if (sweep.plan.grid.empty() && sweep.plan.uniform.empty())
+                throw UsageError{"--summary, --samples and --seed go with --grid or --uniform"};
+            if (sweep.plan.uniform.empty() && sweep.plan.samples != 1) throw UsageError{"--samples needs --uniform NAME=LO:HI"};
+            if (single_run_output || every > 0 || energy_tolerance || project_initial || rtol || atol)
+                throw UsageError{"--output, --events, --shapes, --every, --energy-tolerance, --project-initial, --rtol and "
+                                 "--atol are for one run; a sweep writes --summary"};
+        }
     } catch (const UsageError& e) {
         std::fprintf(stderr, "%s: %s\n", argv[0], e.message.c_str());
         return 2;
     }
 
+    if (sweeping) {
+        sweep.settings.t_end = t_end;
+        sweep.settings.dt = dt;
+        sweep.settings.integrator = integrator;
+        sweep.settings.events = event_options;
+        sweep.settings.projection = projection;
+        sweep.inits = inits;
+        // What decides the results: every option but --threads and --summary, in order.
+        for (int i = 1; i < argc; ++i) {
+            const std::string a = argv[i];
+            if ((a == "--threads" || a == "--summary") && i + 1 < argc) {
+                ++i;
+                continue;
+            }
+            sweep.signature += (sweep.signature.empty() ? "" : " ") + a;
+        }
+        sweep.signature = std::string(model.model_name) + (sweep.signature.empty() ? "" : " ") + sweep.signature;
+        return run_sweep(sweep, model, argv[0]);
+    }
     const LagrangianSystem sys = model.system();
     World w = make_lagrangian_world(sys);
     const std::size_t dof = sys.dof;

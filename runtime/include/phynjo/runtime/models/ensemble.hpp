@@ -1,0 +1,100 @@
+#pragma once
+/// \file
+/// Ensembles of runs of a generated model: parameter and initial-condition sweeps (a grid, or
+/// Monte Carlo samples, or both), every run from its own values to the same end, spread over
+/// threads, summarized one CSV row per run in a fixed order — byte-identical whatever the
+/// thread count, and resumable. The simulators' `--grid`, `--samples`, `--uniform`, `--summary`
+/// (model_main.hpp) are this module.
+#include "phynjo/runtime/models/constraint_projection.hpp"
+#include "phynjo/runtime/models/events.hpp"
+#include "phynjo/runtime/models/lagrangian_system.hpp"
+#include "phynjo/runtime/models/model_main.hpp"
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+namespace phynjo::runtime {
+
+/// One swept quantity: a grid axis (n ≥ 1 values LO + i (HI − LO)/(n − 1), LO alone for n = 1)
+/// or a Monte Carlo axis (n = 0: uniform on [LO, HI)).
+struct SweepAxis {
+    std::string name; ///< a parameter or input, a coordinate (its initial value) or NAME' (its initial velocity)
+    double lo = 0, hi = 0;
+    std::size_t n = 0;
+};
+
+/// "NAME=LO:HI:N" (a grid axis). Throws std::invalid_argument naming what is malformed.
+SweepAxis parse_grid_axis(std::string_view text);
+/// "NAME=LO:HI" (a Monte Carlo axis, LO ≤ HI). Throws std::invalid_argument.
+SweepAxis parse_uniform_axis(std::string_view text);
+
+/// The runs of a sweep, in their fixed order: the grid points row-major (the first axis
+/// slowest), and `samples` Monte Carlo draws at each.
+struct SweepPlan {
+    std::vector<SweepAxis> grid, uniform;
+    std::size_t samples = 1;
+    std::uint64_t seed = 0;
+
+    /// Π n over the grid axes × samples.
+    [[nodiscard]] std::size_t size() const;
+    /// The axes' names: the grid's, then the uniform ones'.
+    [[nodiscard]] std::vector<std::string> names() const;
+    /// Run k's values in the order of names(). A Monte Carlo value is a function of (seed, k,
+    /// axis) alone (SplitMix64 of a counter), so it does not depend on which thread runs k.
+    void values(std::size_t run, std::span<double> out) const;
+};
+
+/// What one run ended with.
+struct RunSummary {
+    enum class Status { finished, stopped, failed };
+    Status status = Status::finished;
+    std::string reason;            ///< why it stopped or failed (empty when finished)
+    double t = 0;                  ///< where it ended, s
+    std::vector<double> q, qdot;   ///< the state there
+    std::vector<double> first_event; ///< per event: when it first fired, NaN if never
+    double max_energy_error = 0;   ///< max over the steps of |E − E(0)| / max(1, |E(0)|)
+};
+
+/// How every run of a sweep is stepped.
+struct RunSettings {
+    double t_end = 10, dt = 1e-3;
+    std::string integrator = "rk4"; ///< rk4, midpoint, rattle or dopri
+    EventOptions events;
+    ProjectionOptions projection;
+};
+
+/// One run from the system's initial state with the initial values `q0` and `v0` set
+/// (coordinate index, value) to t_end, with the model's events. Never throws for a failing
+/// run: a thrown error, a non-finite state or a constraint violated at the start are a
+/// `failed` summary with the reason; a `stop` event is a `stopped` one.
+RunSummary run_one(const LagrangianSystem& system, std::span<const std::pair<std::size_t, double>> q0,
+                   std::span<const std::pair<std::size_t, double>> v0, const RunSettings& settings);
+
+/// A sweep as the simulators' command line gives it (model_main collects the options).
+struct SweepCommand {
+    SweepPlan plan;
+    RunSettings settings;
+    std::string summary;   ///< the summary CSV's path
+    unsigned threads = 1;
+    /// The options that decide the results (not --threads), kept as the summary's first line:
+    /// a resumed sweep must have the same.
+    std::string signature;
+    std::vector<std::pair<std::string, double>> inits; ///< --init values for every run
+};
+
+/// Runs a sweep of `model` and writes its summary: a first line `# phynjo sweep: SIGNATURE`,
+/// the header `run,AXES…,status,t,end_Q…,end_Q'…,first_EVENT…,max_energy_error,reason`, then one row
+/// per run in run order (%.17g; an event that never fired is an empty field). When the file
+/// exists with the same first line, the runs it already holds are kept and the sweep goes on
+/// after them (a partly written last row is dropped); another first line is refused. Runs go
+/// to `threads` threads in batches; rows are written and flushed batch by batch. Progress goes
+/// to stderr when it is a terminal. Exit status: 0 done (failed runs are rows, not errors),
+/// 1 the summary cannot be written, 2 a usage error (an unknown name, a summary of another
+/// command).
+int run_sweep(const SweepCommand& command, const ModelCommandLine& model, const char* program);
+
+} // namespace phynjo::runtime

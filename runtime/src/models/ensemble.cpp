@@ -1,0 +1,380 @@
+// Ensembles: sweep plans, one run, and the sweep driver of the simulators (ensemble.hpp).
+#include "phynjo/runtime/models/ensemble.hpp"
+
+#include "phynjo/runtime/core/errors.hpp"
+#include "phynjo/runtime/core/executor.hpp"
+#include "phynjo/runtime/integrators/dormand_prince.hpp"
+#include "phynjo/runtime/integrators/lagrangian_midpoint.hpp"
+#include "phynjo/runtime/integrators/lagrangian_rattle.hpp"
+#include "phynjo/runtime/integrators/lagrangian_rk4.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <exception>
+#include <limits>
+#include <optional>
+#include <stdexcept>
+#include <unistd.h>
+
+namespace phynjo::runtime {
+
+namespace {
+
+std::optional<double> finite_number(std::string_view s) {
+    double v = 0;
+    const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+    if (ec != std::errc() || end != s.data() + s.size() || s.empty() || !std::isfinite(v)) return std::nullopt;
+    return v;
+}
+
+/// NAME=A:B[:C] split; throws with the option's own wording.
+std::vector<std::string> fields_of(std::string_view text, std::string& name, std::size_t count, const char* form) {
+    const auto eq = text.find('=');
+    if (eq == std::string_view::npos || eq == 0)
+        throw std::invalid_argument("expected " + std::string(form) + ", got '" + std::string(text) + "'");
+    name = std::string(text.substr(0, eq));
+    std::vector<std::string> parts;
+    std::string_view rest = text.substr(eq + 1);
+    for (;;) {
+        const auto colon = rest.find(':');
+        parts.emplace_back(rest.substr(0, colon));
+        if (colon == std::string_view::npos) break;
+        rest = rest.substr(colon + 1);
+    }
+    if (parts.size() != count)
+        throw std::invalid_argument("expected " + std::string(form) + ", got '" + std::string(text) + "'");
+    return parts;
+}
+
+double bound(const std::string& s, const std::string& text) {
+    if (auto v = finite_number(s)) return *v;
+    throw std::invalid_argument("'" + s + "' is not a finite number (in '" + text + "')");
+}
+
+/// SplitMix64 (Steele, Lea, Flood 2014): a counter-based stream of 64-bit values.
+std::uint64_t splitmix64(std::uint64_t x) {
+    x += 0x9e3779b97f4a7c15ull;
+    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+    x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+    return x ^ (x >> 31);
+}
+
+} // namespace
+
+SweepAxis parse_grid_axis(std::string_view text) {
+    SweepAxis a;
+    const auto p = fields_of(text, a.name, 3, "NAME=LO:HI:N");
+    const std::string t(text);
+    a.lo = bound(p[0], t);
+    a.hi = bound(p[1], t);
+    long n = 0;
+    const auto [end, ec] = std::from_chars(p[2].data(), p[2].data() + p[2].size(), n);
+    if (ec != std::errc() || end != p[2].data() + p[2].size() || n < 1)
+        throw std::invalid_argument("'" + p[2] + "' is not a positive whole number of points (in '" + t + "')");
+    if (n > 100000000) throw std::invalid_argument("more than 10^8 points on one axis (in '" + t + "')");
+    a.n = static_cast<std::size_t>(n);
+    return a;
+}
+
+SweepAxis parse_uniform_axis(std::string_view text) {
+    SweepAxis a;
+    const auto p = fields_of(text, a.name, 2, "NAME=LO:HI");
+    const std::string t(text);
+    a.lo = bound(p[0], t);
+    a.hi = bound(p[1], t);
+    if (!(a.lo <= a.hi)) throw std::invalid_argument("LO must not exceed HI (in '" + t + "')");
+    a.n = 0;
+    return a;
+}
+
+std::size_t SweepPlan::size() const {
+    std::size_t n = samples;
+    for (const SweepAxis& a : grid) n *= a.n;
+    return n;
+}
+
+std::vector<std::string> SweepPlan::names() const {
+    std::vector<std::string> n;
+    for (const SweepAxis& a : grid) n.push_back(a.name);
+    for (const SweepAxis& a : uniform) n.push_back(a.name);
+    return n;
+}
+
+void SweepPlan::values(std::size_t run, std::span<double> out) const {
+    std::size_t point = run / samples;
+    for (std::size_t k = grid.size(); k-- > 0;) { // the last axis fastest
+        const SweepAxis& a = grid[k];
+        const std::size_t i = point % a.n;
+        point /= a.n;
+        out[k] = a.n == 1 ? a.lo : a.lo + static_cast<double>(i) * (a.hi - a.lo) / static_cast<double>(a.n - 1);
+    }
+    for (std::size_t j = 0; j < uniform.size(); ++j) {
+        const std::uint64_t r = splitmix64(seed ^ splitmix64(run * 0x100000001b3ull + j));
+        const double u = static_cast<double>(r >> 11) * 0x1.0p-53; // [0, 1)
+        out[grid.size() + j] = uniform[j].lo + u * (uniform[j].hi - uniform[j].lo);
+    }
+}
+
+RunSummary run_one(const LagrangianSystem& sys, std::span<const std::pair<std::size_t, double>> q0,
+                   std::span<const std::pair<std::size_t, double>> v0, const RunSettings& settings) {
+    RunSummary r;
+    r.first_event.assign(sys.n_events, std::numeric_limits<double>::quiet_NaN());
+    World w = make_lagrangian_world(sys);
+    for (const auto& [i, v] : q0) w.at(kGQ, static_cast<Index>(i)) = v;
+    for (const auto& [i, v] : v0) w.at(kGV, static_cast<Index>(i)) = v;
+    auto finish = [&] {
+        r.t = w.time;
+        r.q.assign(w.field(kGQ).begin(), w.field(kGQ).end());
+        r.qdot.assign(w.field(kGV).begin(), w.field(kGV).end());
+    };
+    try {
+        if (sys.n_constraints > 0) check_constraints(sys, 0, w.field(kGQ), w.field(kGV));
+        const double e0 = sys.energy(0, w.field(kGQ), w.field(kGV)), scale = std::max(1.0, std::abs(e0));
+        const double ratio = settings.t_end / settings.dt;
+        long steps = static_cast<long>(std::floor(ratio));
+        if (ratio - static_cast<double>(steps) > 1 - 1e-9) ++steps;
+        const double last = settings.t_end - static_cast<double>(steps) * settings.dt;
+        const long total = steps + (last > 1e-9 * settings.dt ? 1 : 0);
+        EventMonitor monitor(sys, settings.events);
+        const bool with_events = sys.n_events > 0;
+        auto after_step = [&] {
+            for (double x : w.field(kGQ))
+                if (!std::isfinite(x)) throw Error("the state is not finite");
+            for (double x : w.field(kGV))
+                if (!std::isfinite(x)) throw Error("the state is not finite");
+            r.max_energy_error =
+                std::max(r.max_energy_error, std::abs(sys.energy(w.time, w.field(kGQ), w.field(kGV)) - e0) / scale);
+        };
+        auto drive = [&](auto&& step_to, const EventMonitor::Extension* extension) {
+            for (long k = 1; k <= total; ++k) {
+                const double target = k <= steps ? static_cast<double>(k) * settings.dt : settings.t_end;
+                const double h = k <= steps ? settings.dt : last;
+                if (!with_events) {
+                    step_to(target, h);
+                    w.time = target;
+                } else if (!advance_with_events(monitor, w, target, h, step_to, extension)) {
+                    after_step();
+                    return;
+                }
+                after_step();
+            }
+        };
+        if (settings.integrator == "dopri") {
+            DormandPrince45::Options o;
+            o.projection = settings.projection;
+            DormandPrince45 dp(sys, o);
+            double h = settings.dt;
+            auto step_to = [&](double target, double) {
+                do h = dp.step(w, std::min(dp.next_dt() > 0 ? dp.next_dt() : h, target - w.time), target);
+                while (!with_events && w.time < target - 1e-12 * settings.dt);
+            };
+            const EventMonitor::Extension dense = [&](double t, std::span<double> q, std::span<double> v) { dp.dense(t, q, v); };
+            drive(step_to, &dense);
+        } else {
+            Stepper stepper(settings.integrator == "rk4"        ? lagrangian_rk4(sys, w.layout_ptr(), settings.projection)
+                            : settings.integrator == "midpoint" ? lagrangian_midpoint(sys, w.layout_ptr(), settings.projection)
+                                                                : lagrangian_rattle(sys, w.layout_ptr(), settings.projection));
+            drive([&](double t, double h) { stepper.step(w, h); w.time = t; }, nullptr);
+        }
+        for (const EventRecord& e : monitor.log())
+            if (std::isnan(r.first_event[e.event])) r.first_event[e.event] = e.time;
+        if (monitor.stopped() && !monitor.log().empty()) {
+            r.status = RunSummary::Status::stopped;
+            r.reason = "event " + sys.event_names[monitor.log().back().event];
+        }
+    } catch (const std::exception& e) {
+        r.status = RunSummary::Status::failed;
+        r.reason = e.what();
+    }
+    finish();
+    return r;
+}
+
+namespace {
+
+/// A CSV field: quoted when it holds a comma, a quote or a line break.
+std::string csv_field(const std::string& s) {
+    if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
+    std::string q = "\"";
+    for (char c : s) {
+        if (c == '"') q += '"';
+        q += c == '\n' || c == '\r' ? ' ' : c;
+    }
+    return q + "\"";
+}
+
+void append_number(std::string& out, double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.17g", v);
+    out += buf;
+}
+
+/// Where each swept name goes: a parameter (its setter), an initial value, an initial velocity.
+struct Target {
+    enum Kind { parameter, position, velocity } kind;
+    std::size_t index; // into model.parameters, or a coordinate
+};
+
+} // namespace
+
+int run_sweep(const SweepCommand& cmd, const ModelCommandLine& model, const char* program) {
+    auto usage = [&](const std::string& m) {
+        std::fprintf(stderr, "%s: %s\n", program, m.c_str());
+        return 2;
+    };
+    const LagrangianSystem base = model.system();
+    const auto& coords = base.coordinate_names;
+    // Each swept name, and each fixed --init, resolved once.
+    auto resolve = [&](const std::string& name) -> std::optional<Target> {
+        for (std::size_t k = 0; k < model.parameters.size(); ++k)
+            if (model.parameters[k].first == name) return Target{Target::parameter, k};
+        const bool vel = !name.empty() && name.back() == '\'';
+        const std::string c = vel ? name.substr(0, name.size() - 1) : name;
+        const auto it = std::find(coords.begin(), coords.end(), c);
+        if (it == coords.end()) return std::nullopt;
+        return Target{vel ? Target::velocity : Target::position, static_cast<std::size_t>(it - coords.begin())};
+    };
+    const std::vector<std::string> names = cmd.plan.names();
+    std::vector<Target> targets;
+    bool parameters_swept = false;
+    for (std::size_t k = 0; k < names.size(); ++k) {
+        const auto t = resolve(names[k]);
+        if (!t) return usage("sweep: '" + names[k] + "' is not a parameter, an input, a coordinate or a coordinate's velocity (try --help)");
+        for (std::size_t j = 0; j < k; ++j)
+            if (names[j] == names[k]) return usage("sweep: '" + names[k] + "' is swept twice");
+        parameters_swept = parameters_swept || t->kind == Target::parameter;
+        targets.push_back(*t);
+    }
+    std::vector<std::pair<std::size_t, double>> fixed_q, fixed_v;
+    for (const auto& [name, v] : cmd.inits) {
+        const auto t = resolve(name);
+        if (!t || t->kind == Target::parameter) return usage("--init: '" + name + "' is not a coordinate (try --help)");
+        (t->kind == Target::position ? fixed_q : fixed_v).emplace_back(t->index, v);
+    }
+    if (cmd.settings.integrator != "rk4" && cmd.settings.integrator != "midpoint" && cmd.settings.integrator != "rattle" &&
+        cmd.settings.integrator != "dopri")
+        return usage("sweeps run with --integrator rk4, midpoint, rattle or dopri, not '" + cmd.settings.integrator + "'");
+
+    const std::size_t total = cmd.plan.size();
+    const std::string first_line = "# phynjo sweep: " + cmd.signature;
+    std::string header = "run";
+    for (const std::string& n : names) header += "," + n;
+    header += ",status,t";
+    for (const auto& c : coords) header += ",end_" + c;
+    for (const auto& c : coords) header += ",end_" + c + "'";
+    for (const auto& e : base.event_names) header += ",first_" + e;
+    header += ",max_energy_error,reason";
+
+    // Resume: keep the complete rows of a summary this same command began.
+    std::size_t done = 0;
+    if (std::FILE* old = std::fopen(cmd.summary.c_str(), "r")) {
+        std::string text;
+        char buf[65536];
+        for (std::size_t got; (got = std::fread(buf, 1, sizeof buf, old)) > 0;) text.append(buf, got);
+        std::fclose(old);
+        if (!text.empty()) {
+            const auto nl = text.find('\n');
+            if (nl == std::string::npos || text.substr(0, nl) != first_line)
+                return usage("--summary " + cmd.summary + " was written by another command (its first line is not '" +
+                             first_line + "'); remove it or choose another file");
+            const auto nl2 = text.find('\n', nl + 1);
+            std::size_t keep = nl2 == std::string::npos ? 0 : nl2 + 1; // after the header
+            if (keep > 0) {
+                if (text.substr(nl + 1, nl2 - nl - 1) != header)
+                    return usage("--summary " + cmd.summary + ": its header does not match this model's");
+                for (std::size_t p = keep; (p = text.find('\n', p)) != std::string::npos; ++p) {
+                    ++done;
+                    keep = p + 1;
+                }
+            }
+            if (done > total) return usage("--summary " + cmd.summary + " holds more rows than this sweep has runs");
+            if (keep < text.size() || keep == 0) { // drop a partial row (or a partial header)
+                if (::truncate(cmd.summary.c_str(), static_cast<off_t>(keep)) != 0) {
+                    std::fprintf(stderr, "%s: cannot truncate %s\n", program, cmd.summary.c_str());
+                    return 1;
+                }
+            }
+            if (keep == 0) done = 0;
+        }
+    }
+    std::FILE* out = std::fopen(cmd.summary.c_str(), "a");
+    if (!out) {
+        std::fprintf(stderr, "%s: cannot write %s\n", program, cmd.summary.c_str());
+        return 1;
+    }
+    std::fseek(out, 0, SEEK_END);
+    if (std::ftell(out) == 0) std::fprintf(out, "%s\n%s\n", first_line.c_str(), header.c_str());
+    std::fflush(out);
+    if (done > 0) std::fprintf(stderr, "%s: resuming %s after its %zu of %zu runs\n", program, cmd.summary.c_str(), done, total);
+
+    const unsigned threads = std::max(1u, cmd.threads);
+    Executor executor(threads);
+    const std::size_t batch = std::max<std::size_t>(64, 16 * threads);
+    std::vector<LagrangianSystem> systems;
+    std::vector<std::vector<std::pair<std::size_t, double>>> q0s(batch), v0s(batch);
+    std::vector<RunSummary> results(batch);
+    std::vector<double> values(names.size());
+    std::vector<std::vector<double>> batch_values(batch);
+    const bool progress = ::isatty(STDERR_FILENO) != 0;
+    const auto start = std::chrono::steady_clock::now();
+    auto last_report = start;
+    for (std::size_t first = done; first < total; first += batch) {
+        const std::size_t count = std::min(batch, total - first);
+        systems.clear();
+        for (std::size_t j = 0; j < count; ++j) { // on this thread: the setters share the model's parameters
+            cmd.plan.values(first + j, values);
+            batch_values[j] = values;
+            q0s[j] = fixed_q;
+            v0s[j] = fixed_v;
+            for (std::size_t k = 0; k < names.size(); ++k) {
+                const Target& t = targets[k];
+                if (t.kind == Target::parameter) model.parameters[t.index].second(values[k]);
+                else (t.kind == Target::position ? q0s[j] : v0s[j]).emplace_back(t.index, values[k]);
+            }
+            if (parameters_swept) systems.push_back(model.system());
+        }
+        auto task = [&](unsigned i) {
+            for (std::size_t j = i; j < count; j += threads)
+                results[j] = run_one(parameters_swept ? systems[j] : base, q0s[j], v0s[j], cmd.settings);
+        };
+        executor.fork_join(threads, task);
+        std::string rows;
+        for (std::size_t j = 0; j < count; ++j) {
+            const RunSummary& r = results[j];
+            rows += std::to_string(first + j);
+            for (double v : batch_values[j]) rows += ',', append_number(rows, v);
+            rows += r.status == RunSummary::Status::finished ? ",finished," : r.status == RunSummary::Status::stopped ? ",stopped," : ",failed,";
+            append_number(rows, r.t);
+            for (double v : r.q) rows += ',', append_number(rows, v);
+            for (double v : r.qdot) rows += ',', append_number(rows, v);
+            for (double v : r.first_event) {
+                rows += ',';
+                if (!std::isnan(v)) append_number(rows, v);
+            }
+            rows += ',';
+            append_number(rows, r.max_energy_error);
+            rows += ',' + csv_field(r.reason) + '\n';
+        }
+        if (std::fwrite(rows.data(), 1, rows.size(), out) != rows.size() || std::fflush(out) != 0) {
+            std::fprintf(stderr, "%s: cannot write %s\n", program, cmd.summary.c_str());
+            std::fclose(out);
+            return 1;
+        }
+        const auto now = std::chrono::steady_clock::now();
+        if (progress && (now - last_report > std::chrono::milliseconds(500) || first + count == total)) {
+            last_report = now;
+            const double sec = std::chrono::duration<double>(now - start).count();
+            const double finished = static_cast<double>(first + count - done), rate = finished / std::max(sec, 1e-9);
+            std::fprintf(stderr, "\r%s: %zu of %zu runs, %.1f runs/s, about %.0f s left   ", program, first + count, total, rate,
+                         static_cast<double>(total - first - count) / std::max(rate, 1e-9));
+            if (first + count == total) std::fprintf(stderr, "\n");
+        }
+    }
+    std::fclose(out);
+    return 0;
+}
+
+} // namespace phynjo::runtime

@@ -1,0 +1,103 @@
+#!/usr/bin/env bash
+# Sweeps (--grid, --uniform, --samples, --seed, --summary, --threads) of a generated
+# simulator, on the double pendulum with flip events (examples/models/flip_pendulum.lag).
+# Catches: a summary that depends on the thread count (rows out of order, a shared RNG, a
+# model shared between threads), a resume that loses, repeats or garbles runs (after a kill
+# -9 or a partly written row), a summary of another command taken over, grid points off their
+# formula, Monte Carlo values outside their range or not reproducible from the seed, a failing
+# run that ends the sweep instead of being recorded, malformed options accepted.
+#   usage: test_sweep_main.sh FLIP_SIM
+set -u
+sim=$1
+. "$(dirname "$0")/check.sh"
+grid=(--grid th1=-3:3:20 --grid th2=-3:3:20 --t-end 10)
+
+"$sim" --help | grep -q -- "--grid NAME=LO:HI:N" && ok "--help lists --grid" || bad "--help"
+
+# The same summary on 1 and 3 threads, byte for byte.
+"$sim" "${grid[@]}" --summary "$work/s1.csv"; rc1=$?
+"$sim" "${grid[@]}" --summary "$work/s3.csv" --threads 3; rc3=$?
+[ $rc1 -eq 0 ] && [ $rc3 -eq 0 ] && ok "exit 0" || bad "exit $rc1 / $rc3"
+cmp -s "$work/s1.csv" "$work/s3.csv" && ok "1 and 3 threads: the same bytes" || bad "1 and 3 threads differ"
+[ "$(wc -l < "$work/s1.csv")" -eq 402 ] && ok "400 rows, a signature line and a header" || bad "rows: $(wc -l < "$work/s1.csv")"
+[ "$(head -1 "$work/s1.csv")" = "# phynjo sweep: flip_pendulum --grid th1=-3:3:20 --grid th2=-3:3:20 --t-end 10" ] \
+  && ok "signature line (without --summary and --threads)" || bad "signature: $(head -1 "$work/s1.csv")"
+want="run,th1,th2,status,t,end_th1,end_th2,end_th1',end_th2',first_flip1,first_flip1_back,first_flip2,first_flip2_back,max_energy_error,reason"
+[ "$(sed -n 2p "$work/s1.csv")" = "$want" ] && ok "header" || bad "header: $(sed -n 2p "$work/s1.csv")"
+# grid points: run k = (i, j), th1 = -3 + 6 i/19 (slowest), th2 = -3 + 6 j/19; a stopped run's
+# t is its first flip, and |end angle| = pi for the arm that flipped; finished runs end at 10 s
+awk -F, 'NR > 2 {
+    k = $1; i = int(k / 20); j = k % 20
+    if (abs($2 - (-3 + 6 * i / 19)) > 1e-15 || abs($3 - (-3 + 6 * j / 19)) > 1e-15) bad = "grid point of run " k
+    if ($4 == "stopped") {
+      first = 1e9; for (c = 10; c <= 13; ++c) if ($c != "" && $c + 0 < first) first = $c + 0
+      if (abs($5 - first) > 1e-12) bad = "run " k ": t is not its first flip"
+      if (abs(abs($6) - 3.141592653589793) > 1e-9 && abs(abs($7) - 3.141592653589793) > 1e-9) bad = "run " k ": no arm at pi"
+      ++stopped
+    } else if ($4 == "finished") { if ($5 != 10) bad = "run " k " finished at " $5; ++finished }
+    else bad = "run " k ": status " $4
+    if ($14 > 1e-6) bad = "run " k ": energy error " $14
+  }
+  END { if (stopped < 100 || finished < 10) bad = "stopped " stopped ", finished " finished; if (bad != "") { print bad; exit 1 } }
+  function abs(v) { return v < 0 ? -v : v }' "$work/s1.csv" && ok "grid points, flip times, energy errors" || bad "rows"
+# the corner (-3, -3) is near the top: it flips within a second; (0, 0) never moves
+awk -F, '$1 == 0 && $4 == "stopped" && $5 < 1 { f = 1 } END { exit !f }' "$work/s1.csv" && ok "run 0 flips early" || bad "run 0"
+
+# Resume after kill -9 (once a batch is written) and after a partly written row: the same bytes.
+"$sim" "${grid[@]}" --summary "$work/k.csv" & pid=$!
+for _ in $(seq 1 500); do [ -f "$work/k.csv" ] && [ "$(wc -l < "$work/k.csv")" -ge 3 ] && break; sleep 0.01; done
+kill -9 $pid 2>/dev/null; wait $pid 2>/dev/null
+rows=$(($(wc -l < "$work/k.csv") - 2))
+"$sim" "${grid[@]}" --summary "$work/k.csv" --threads 2 2> "$work/k.err"
+cmp -s "$work/s1.csv" "$work/k.csv" && ok "killed after $rows rows, resumed: the same bytes" || bad "resume after kill"
+if [ $rows -lt 400 ]; then
+  grep -q "resuming .* after its $rows of 400 runs" "$work/k.err" && ok "resume message" || bad "resume message: $(cat "$work/k.err")"
+fi
+{ head -12 "$work/s1.csv"; sed -n 13p "$work/s1.csv" | head -c 40; } > "$work/p.csv"
+"$sim" "${grid[@]}" --summary "$work/p.csv" 2> "$work/p.err"
+cmp -s "$work/s1.csv" "$work/p.csv" && ok "a partly written row dropped and redone" || bad "partial row"
+grep -q "after its 10 of 400" "$work/p.err" && ok "... after its 10 complete rows" || bad "partial: $(cat "$work/p.err")"
+"$sim" --grid th1=-3:3:21 --grid th2=-3:3:20 --t-end 10 --summary "$work/s1.csv" 2> "$work/o.err"; rc=$?
+[ $rc -eq 2 ] && grep -q "written by another command" "$work/o.err" && cmp -s "$work/s1.csv" "$work/s3.csv" \
+  && ok "another command's summary refused, untouched" || bad "other command: rc $rc $(cat "$work/o.err")"
+
+# Monte Carlo: values in their ranges, reproducible from the seed, other with another seed;
+# the same bytes on 1 and 4 threads; grid x samples.
+mc=(--uniform th1=-1:1 --uniform "th2'=0:0.5" --samples 30 --seed 7 --t-end 1)
+"$sim" "${mc[@]}" --summary "$work/m1.csv"
+"$sim" "${mc[@]}" --summary "$work/m4.csv" --threads 4
+cmp -s "$work/m1.csv" "$work/m4.csv" && ok "Monte Carlo: the same bytes on 1 and 4 threads" || bad "Monte Carlo threads"
+awk -F, 'NR > 2 { if ($2 < -1 || $2 >= 1 || $3 < 0 || $3 >= 0.5) bad = 1; if ($2 == prev) bad = 1; prev = $2; n++ }
+  END { exit bad || n != 30 }' "$work/m1.csv" && ok "30 draws in [-1, 1) x [0, 0.5), all different" || bad "draws"
+"$sim" --uniform th1=-1:1 --uniform "th2'=0:0.5" --samples 30 --seed 8 --t-end 1 --summary "$work/m8.csv"
+[ "$(sed -n 3p "$work/m1.csv" | cut -d, -f2)" != "$(sed -n 3p "$work/m8.csv" | cut -d, -f2)" ] && ok "another seed, other draws" || bad "seed"
+"$sim" --grid g=9:10:2 --uniform th1=0:1 --samples 3 --t-end 0.1 --summary "$work/gm.csv"
+awk -F, 'NR > 2 { g[NR - 3] = $2 } END { exit !(g[0] == 9 && g[2] == 9 && g[3] == 10 && g[5] == 10 && NR == 8) }' "$work/gm.csv" \
+  && ok "grid x samples: 2 x 3 runs, samples innermost" || bad "grid x samples"
+
+# A failing run is a row with its reason; the sweep goes on.
+"$sim" --param m1=0 --init th2=0.5 --grid m2=0:1:2 --t-end 0.1 --summary "$work/f.csv"; rc=$?
+# (one swept axis: status is field 3, the reason field 14)
+[ $rc -eq 0 ] && [ "$(sed -n 3p "$work/f.csv" | cut -d, -f3)" = failed ] \
+  && sed -n 3p "$work/f.csv" | cut -d, -f14- | grep -q "mass matrix is singular" \
+  && [ "$(sed -n 4p "$work/f.csv" | cut -d, -f3)" = finished ] && ok "m1 = m2 = 0: failed with a reason, the next run finished" \
+  || bad "failing run: rc $rc; $(sed -n 3,4p "$work/f.csv")"
+
+# Bad input: a clear error, exit 2.
+expect_usage() {
+  local what=$1; shift
+  local err; err=$("$sim" "$@" 2>&1 >/dev/null); local rc=$?
+  [ $rc -eq 2 ] && printf '%s' "$err" | grep -q -- "$what" && ok "usage error: $what" || bad "'$*': rc $rc, '$err'"
+}
+expect_usage "expected NAME=LO:HI:N" --grid th1=0:1 --summary "$work/x.csv"
+expect_usage "'a' is not a finite number" --grid th1=a:1:3 --summary "$work/x.csv"
+expect_usage "'0' is not a positive whole number of points" --grid th1=0:1:0 --summary "$work/x.csv"
+expect_usage "'foo' is not a parameter" --grid foo=0:1:3 --summary "$work/x.csv"
+expect_usage "LO must not exceed HI" --uniform th1=1:0 --summary "$work/x.csv"
+expect_usage "needs --summary FILE" --grid th1=0:1:3
+expect_usage "--samples needs --uniform" --grid th1=0:1:3 --samples 4 --summary "$work/x.csv"
+expect_usage "swept twice" --grid th1=0:1:3 --uniform th1=0:1 --summary "$work/x.csv"
+expect_usage "are for one run" --grid th1=0:1:3 --summary "$work/x.csv" -o "$work/y.csv"
+expect_usage "sweeps run with --integrator rk4" --grid th1=0:1:3 --summary "$work/x.csv" --integrator cvode
+[ ! -e "$work/x.csv" ] && ok "no summary written on a usage error" || bad "x.csv written"
+finish
