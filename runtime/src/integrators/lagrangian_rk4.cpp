@@ -1,25 +1,55 @@
-// Classical RK4 on y = (q, q'), y' = (q', q''(t, q, q')) for generated models, as the five
-// stage rules shared with the NState rk4 (rk4_stages.hpp). Order 4; not symplectic.
-// Reference: W. Kutta, Z. Math. Phys. 46, 435 (1901); Hairer, Nørsett, Wanner, Solving
-// Ordinary Differential Equations I, §II.1. Constrained models: RK4 on the index-1 system
-// (q'' from the KKT solve), then a projection onto the constraints (Hairer, Lubich, Wanner,
-// Geometric Numerical Integration, §IV.4).
+// Classical RK4 on y = (q, q'), y' = (q', q''(t, q, q')) for generated models, as one rule
+// (the five stages of rk4_stages.hpp fused: the same operations in the same order, so the
+// same bits, without an interpreter action and a scratch fill per stage). Order 4; not
+// symplectic. Reference: W. Kutta, Z. Math. Phys. 46, 435 (1901); Hairer, Nørsett, Wanner,
+// Solving Ordinary Differential Equations I, §II.1. Constrained models: RK4 on the index-1
+// system (q'' from the KKT solve), then a projection onto the constraints (Hairer, Lubich,
+// Wanner, Geometric Numerical Integration, §IV.4).
 #include "phynjo/runtime/integrators/lagrangian_rk4.hpp"
 
-#include "rk4_stages.hpp"
+#include <vector>
 
 namespace phynjo::runtime {
 
 NumericWorkflow lagrangian_rk4(const LagrangianSystem& s, const std::shared_ptr<const Layout>& layout,
                                const ProjectionOptions& projection) {
     const ComponentSet all = ComponentSet::range(0, static_cast<Index>(s.dof));
-    // f(t, q, q') = (q', q''(t, q, q')); the stage storage is fields 2…5 of the world.
-    auto derivative = [acc = s.accelerations](double t, const World& w, std::span<double> kq, std::span<double> kv) {
-        const std::size_t n = w.size();
-        acc(t, w.field(kGQ), w.field(kGV), kv.first(n));
-        for (Index i = 0; i < n; ++i) kq[i] = w.at(kGV, i);
+    const Domain state = Domain(kGQ, all) | Domain(kGV, all);
+    const Domain storage = Domain(kGRkQ0, all) | Domain(kGRkV0, all) | Domain(kGRkAQ, all) | Domain(kGRkAV, all);
+    NumericRule r{"lagrangian_rk4", state | storage, {}, nullptr, layout};
+    r.step = [acc = s.accelerations, n = s.dof](double dt, World& w) {
+        // q'' of each stage; per thread, so that one workflow may step worlds on several threads
+        thread_local std::vector<double> kv;
+        if (kv.size() < n) kv.resize(n);
+        double *q = w.field(kGQ).data(), *v = w.field(kGV).data(), *q0 = w.field(kGRkQ0).data(),
+               *v0 = w.field(kGRkV0).data(), *aq = w.field(kGRkAQ).data(), *av = w.field(kGRkAV).data();
+        for (std::size_t i = 0; i < n; ++i) {
+            q0[i] = q[i];
+            v0[i] = v[i];
+            aq[i] = av[i] = 0;
+        }
+        const std::span<double> k(kv.data(), n);
+        auto stage = [&](double c, double weight, double next, bool last) {
+            acc(w.time + c * dt, w.field(kGQ), w.field(kGV), k);
+            for (std::size_t i = 0; i < n; ++i) {
+                const double kq = v[i], kvi = k[i]; // k_q = q' at the stage's state
+                aq[i] += weight * kq;
+                av[i] += weight * kvi;
+                if (last) {
+                    q[i] = q0[i] + dt * aq[i];
+                    v[i] = v0[i] + dt * av[i];
+                } else {
+                    q[i] = q0[i] + next * dt * kq;
+                    v[i] = v0[i] + next * dt * kvi;
+                }
+            }
+        };
+        stage(0.0, 1.0 / 6, 0.5, false);
+        stage(0.5, 2.0 / 6, 0.5, false);
+        stage(0.5, 2.0 / 6, 1.0, false);
+        stage(1.0, 1.0 / 6, 0, true);
     };
-    auto rk4 = detail::rk4_workflow({kGQ, kGV, kGRkQ0, kGRkV0, kGRkAQ, kGRkAV}, all, {}, derivative, layout);
+    NumericWorkflow rk4 = NumericWorkflow::run(r);
     if (s.n_constraints == 0) return rk4;
     return NumericWorkflow::seq(rk4, NumericWorkflow::run(constraint_projection_rule(s, layout, projection)));
 }
