@@ -58,12 +58,12 @@ struct Body {
 struct ModelScratch {
     PlacedModel placed;
     std::size_t first = 0; // scratch index of its first sphere
-    std::size_t nx = 0;    // entries of shape_positions
-    std::vector<double> q, qd, X, Xp, Xm, dq;
+    std::vector<double> q, qd, dq;
     std::vector<double> A; // 6 per sphere: xx, yy, zz, xy, xz, yz
-    // Row-major: J (3·ns × n), M (n × n, then its Cholesky factor), B (n × 3·ns), and for
-    // constraints G (nc × n), M⁻¹Gᵀ (n × nc), S = G M⁻¹ Gᵀ (nc × nc, then its factor), G B.
-    std::vector<double> J, M, B, G, MinvGt, S, GB;
+    // Row-major: M (n × n, then its Cholesky factor), B (n × 3·ns), and for constraints
+    // G (nc × n), M⁻¹Gᵀ (n × nc), S = G M⁻¹ Gᵀ (nc × nc, then its factor), G B. J (3·ns × n)
+    // is sync.J, from sphere_states at the step's state (scatter overwrites it after the solve).
+    std::vector<double> M, B, G, MinvGt, S, GB;
     SphereSync sync;
 };
 
@@ -180,11 +180,10 @@ public:
                 m.first = ids_.size();
                 const LagrangianSystem& s = *p.system;
                 const std::size_t n = s.dof, ns = p.spheres.size();
-                for (std::size_t k = 0; k < s.n_shapes; ++k) m.nx += s.shape_is_sphere[k] ? 3 : 6;
-                m.q.resize(n), m.qd.resize(n), m.dq.resize(n), m.X.resize(m.nx), m.Xp.resize(m.nx), m.Xm.resize(m.nx);
+                m.q.resize(n), m.qd.resize(n), m.dq.resize(n);
                 m.A.resize(6 * ns);
                 const std::size_t nc = s.n_constraints;
-                m.J.resize(3 * ns * n), m.M.resize(n * n), m.B.resize(n * 3 * ns);
+                m.M.resize(n * n), m.B.resize(n * 3 * ns);
                 m.G.resize(nc * n), m.MinvGt.resize(n * nc), m.S.resize(nc * nc), m.GB.resize(nc * 3 * ns);
                 ids_.insert(ids_.end(), p.spheres.begin(), p.spheres.end());
                 models_.push_back(std::move(m));
@@ -346,18 +345,16 @@ void Solver::gather_model(const World& w, ModelScratch& m, std::size_t index) {
             throw Error("contact: the state of model '" + m.placed.name + "' is not finite");
     }
     const double t = w.time;
-    const double h = 6e-6 * std::max(1.0, std::abs(t)); // as sync_model_spheres
-    s.shape_positions(t, m.q, m.X);
-    s.shape_positions(t + h, m.q, m.Xp);
-    s.shape_positions(t - h, m.q, m.Xm);
-    s.sphere_jacobians(t, m.q, m.J); // 3·ns × n, row-major
+    m.sync.q = m.q; // sizes fixed: no allocation
+    m.sync.qd = m.qd;
+    sphere_states(m.placed, t, m.sync); // centres, velocities, J (3·ns × n, row-major)
     s.mass_matrix(t, m.q, m.qd, m.M);
     if (!cholesky(m.M.data(), n))
         throw Error("contact: the mass matrix of model '" + m.placed.name + "' is not positive definite at t = " +
                     std::to_string(t) + " s: its spheres' effective masses are undefined");
     // B = M⁻¹ Jᵀ (n × 3·ns, row-major), column by column.
     for (std::size_t i = 0; i < n; ++i)
-        for (std::size_t c = 0; c < nb; ++c) m.B[i * nb + c] = m.J[c * n + i];
+        for (std::size_t c = 0; c < nb; ++c) m.B[i * nb + c] = m.sync.J[c * n + i];
     for (std::size_t c = 0; c < nb; ++c) cholesky_solve(m.M.data(), n, &m.B[c], nb);
     if (nc > 0) { // B ← B − M⁻¹Gᵀ (G M⁻¹ Gᵀ)⁻¹ G B: the impulses keep G Δq' = 0
         s.constraint_matrix(t, m.q, m.G); // nc × n
@@ -392,7 +389,7 @@ void Solver::gather_model(const World& w, ModelScratch& m, std::size_t index) {
         for (std::size_t r = 0; r < 3; ++r)
             for (std::size_t c = 0; c < 3; ++c) {
                 double v = 0;
-                for (std::size_t i = 0; i < n; ++i) v += m.J[(3 * j + r) * n + i] * m.B[i * nb + 3 * j + c];
+                for (std::size_t i = 0; i < n; ++i) v += m.sync.J[(3 * j + r) * n + i] * m.B[i * nb + 3 * j + c];
                 a[r][c] = v;
             }
         double* A = &m.A[6 * j]; // J_s B_s: symmetric up to round-off
@@ -404,11 +401,8 @@ void Solver::gather_model(const World& w, ModelScratch& m, std::size_t index) {
         b.sphere = static_cast<int>(j);
         b.r = m.placed.radii[j];
         for (std::size_t k = 0; k < 3; ++k) {
-            const std::size_t x = m.placed.centre[j] + k;
-            double v = (m.Xp[x] - m.Xm[x]) / (2 * h);
-            for (std::size_t i = 0; i < n; ++i) v += m.J[(3 * j + k) * n + i] * m.qd[i];
-            b.p[k] = m.X[x];
-            b.v[k] = v;
+            b.p[k] = m.sync.P[3 * j + k];
+            b.v[k] = m.sync.V[3 * j + k];
         }
     }
 }
@@ -427,7 +421,7 @@ void Solver::model_impulse(const Body& X, const double* lambda, std::vector<Body
         Body& b = B[m.first + j];
         double* out = position ? b.p : b.v;
         for (std::size_t k = 0; k < 3; ++k) {
-            const double* row = &m.J[(3 * j + k) * n];
+            const double* row = &m.sync.J[(3 * j + k) * n];
             double d = 0;
             for (std::size_t i = 0; i < n; ++i) d += row[i] * m.dq[i];
             out[k] += d;

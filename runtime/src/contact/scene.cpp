@@ -108,34 +108,42 @@ std::vector<double> model_qdot(const Scene& scene, std::size_t k) {
     return v;
 }
 
-void sync_model_spheres(const PlacedModel& p, FieldId qf, FieldId qdf, double t, World& w, SphereSync& s) {
+void sphere_states(const PlacedModel& p, double t, SphereSync& s) {
     const LagrangianSystem& sys = *p.system;
     const std::size_t n = sys.dof, ns = p.spheres.size();
-    if (ns == 0) return;
     std::size_t nx = 0;
     for (std::size_t k = 0; k < sys.n_shapes; ++k) nx += sys.shape_is_sphere[k] ? 3 : 6;
-    s.q.resize(n), s.qd.resize(n), s.X.resize(nx), s.Xp.resize(nx), s.Xm.resize(nx), s.J.resize(3 * ns * n);
-    for (std::size_t i = 0; i < n; ++i) {
-        s.q[i] = w.at(qf, p.coordinates[i]);
-        s.qd[i] = w.at(qdf, p.coordinates[i]);
-    }
-    // ∂X/∂t by a central difference (h ≈ ε^(1/3)): exactly 0 for a model without t.
+    s.X.resize(nx), s.Xp.resize(nx), s.Xm.resize(nx), s.J.resize(3 * ns * n), s.P.resize(3 * ns), s.V.resize(3 * ns);
     const double h = 6e-6 * std::max(1.0, std::abs(t));
     sys.shape_positions(t, s.q, s.X);
     sys.shape_positions(t + h, s.q, s.Xp);
     sys.shape_positions(t - h, s.q, s.Xm);
     sys.sphere_jacobians(t, s.q, s.J);
-    for (std::size_t j = 0; j < ns; ++j) {
-        const Index c = p.spheres[j];
-        for (int a = 0; a < 3; ++a) {
-            const std::size_t x = p.centre[j] + static_cast<std::size_t>(a);
-            const double* row = &s.J[(3 * j + static_cast<std::size_t>(a)) * n];
+    for (std::size_t j = 0; j < ns; ++j)
+        for (std::size_t a = 0; a < 3; ++a) {
+            const std::size_t x = p.centre[j] + a;
+            const double* row = &s.J[(3 * j + a) * n];
             double v = (s.Xp[x] - s.Xm[x]) / (2 * h);
             for (std::size_t i = 0; i < n; ++i) v += row[i] * s.qd[i];
-            w.at(static_cast<FieldId>(kX + a), c) = s.X[x];
-            w.at(static_cast<FieldId>(kVX + a), c) = v;
+            s.P[3 * j + a] = s.X[x];
+            s.V[3 * j + a] = v;
         }
+}
+
+void sync_model_spheres(const PlacedModel& p, FieldId qf, FieldId qdf, double t, World& w, SphereSync& s) {
+    const std::size_t n = p.system->dof;
+    if (p.spheres.empty()) return;
+    s.q.resize(n), s.qd.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        s.q[i] = w.at(qf, p.coordinates[i]);
+        s.qd[i] = w.at(qdf, p.coordinates[i]);
     }
+    sphere_states(p, t, s);
+    for (std::size_t j = 0; j < p.spheres.size(); ++j)
+        for (int a = 0; a < 3; ++a) {
+            w.at(static_cast<FieldId>(kX + a), p.spheres[j]) = s.P[3 * j + static_cast<std::size_t>(a)];
+            w.at(static_cast<FieldId>(kVX + a), p.spheres[j]) = s.V[3 * j + static_cast<std::size_t>(a)];
+        }
 }
 
 NumericRule model_rule(const Scene& scene, std::size_t k, ModelIntegrator integrator, const ProjectionOptions& projection) {

@@ -19,16 +19,13 @@
 #include <stdexcept>
 #include <unistd.h>
 
+#include "strict_numbers.hpp"
+
 namespace phynjo::runtime {
 
 namespace {
 
-std::optional<double> finite_number(std::string_view s) {
-    double v = 0;
-    const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-    if (ec != std::errc() || end != s.data() + s.size() || s.empty() || !std::isfinite(v)) return std::nullopt;
-    return v;
-}
+using detail::finite_number;
 
 /// NAME=A:B[:C] split; throws with the option's own wording.
 std::vector<std::string> fields_of(std::string_view text, std::string& name, std::size_t count, const char* form) {
@@ -70,9 +67,9 @@ SweepAxis parse_grid_axis(std::string_view text) {
     const std::string t(text);
     a.lo = bound(p[0], t);
     a.hi = bound(p[1], t);
-    long n = 0;
-    const auto [end, ec] = std::from_chars(p[2].data(), p[2].data() + p[2].size(), n);
-    if (ec != std::errc() || end != p[2].data() + p[2].size() || n < 1)
+    const auto whole = detail::whole_number(p[2]);
+    const long n = whole ? *whole : 0;
+    if (n < 1)
         throw std::invalid_argument("'" + p[2] + "' is not a positive whole number of points (in '" + t + "')");
     if (n > 100000000) throw std::invalid_argument("more than 10^8 points on one axis (in '" + t + "')");
     a.n = static_cast<std::size_t>(n);

@@ -10,6 +10,8 @@
 #include "phynjo/runtime/models/ensemble.hpp"
 #include "phynjo/runtime/models/events.hpp"
 
+#include "strict_numbers.hpp"
+
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -23,20 +25,8 @@ namespace phynjo::runtime {
 
 namespace {
 
-/// A whole argument as a finite number, or nothing ("1e-2x", "abc", "" are not numbers).
-std::optional<double> number(std::string_view s) {
-    double v = 0;
-    const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-    if (ec != std::errc() || end != s.data() + s.size() || s.empty() || !std::isfinite(v)) return std::nullopt;
-    return v;
-}
-
-std::optional<long> whole_number(std::string_view s) {
-    long v = 0;
-    const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-    if (ec != std::errc() || end != s.data() + s.size() || s.empty()) return std::nullopt;
-    return v;
-}
+using detail::whole_number;
+std::optional<double> number(std::string_view s) { return detail::finite_number(s); }
 
 struct UsageError {
     std::string message;

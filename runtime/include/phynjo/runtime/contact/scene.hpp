@@ -81,7 +81,11 @@ std::vector<double> model_qdot(const Scene& scene, std::size_t k);
 /// Buffers for sync_model_spheres, reused (no allocation once sized).
 struct SphereSync {
     std::vector<double> q, qd, X, Xp, Xm, J;
+    std::vector<double> P, V; ///< the spheres' centres and velocities, 3 per sphere
 };
+/// From s.q, s.qd at time t: s.J (sphere_jacobians), s.P = the sphere centres X_s(t, q),
+/// s.V = J_s q' + ∂X_s/∂t (a central difference, h ≈ ε^(1/3): exactly 0 for a model without t).
+void sphere_states(const PlacedModel& model, double t, SphereSync& s);
 /// Writes the proxies of `model` (positions X_s(t, q), velocities J_s q' + ∂X_s/∂t) from its
 /// coordinates at time t.
 void sync_model_spheres(const PlacedModel& model, FieldId q, FieldId qd, double t, World& w, SphereSync& scratch);

@@ -1,0 +1,27 @@
+// Strict readers of command-line numbers (internal: model_main.cpp, ensemble.cpp): a whole
+// argument or nothing — "1e-2x", "abc", "" are not numbers.
+#pragma once
+#include <charconv>
+#include <cmath>
+#include <optional>
+#include <string_view>
+
+namespace phynjo::runtime::detail {
+
+/// A whole argument as a finite number, or nothing.
+inline std::optional<double> finite_number(std::string_view s) {
+    double v = 0;
+    const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+    if (ec != std::errc() || end != s.data() + s.size() || s.empty() || !std::isfinite(v)) return std::nullopt;
+    return v;
+}
+
+/// A whole argument as a whole number, or nothing.
+inline std::optional<long> whole_number(std::string_view s) {
+    long v = 0;
+    const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+    if (ec != std::errc() || end != s.data() + s.size() || s.empty()) return std::nullopt;
+    return v;
+}
+
+} // namespace phynjo::runtime::detail
