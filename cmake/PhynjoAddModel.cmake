@@ -4,7 +4,7 @@ include_guard(GLOBAL)
 # Runs phynjo-lagc at build time (again whenever the .lag file or the compiler changes) and
 # makes a target whose include path holds the generated header, so that `#include
 # "name.hpp"` works: a static library, or with MAIN an executable whose main() simulates the
-# model (see `name --help`). The generated files are named after TARGET. Works in the phynjo
+# model (see `name --help`; built with MPI, it shares a sweep among the ranks of `mpirun`). The generated files are named after TARGET. Works in the phynjo
 # build tree (add_subdirectory) and after find_package(phynjo CONFIG).
 function(phynjo_add_model)
   cmake_parse_arguments(PHYNJO "MAIN" "TARGET;MODEL" "LAGC_OPTIONS" ${ARGN})
@@ -39,6 +39,11 @@ function(phynjo_add_model)
   endif()
   target_include_directories(${PHYNJO_TARGET} PUBLIC "${dir}")
   target_link_libraries(${PHYNJO_TARGET} PUBLIC phynjo::runtime)
+  if(PHYNJO_MAIN AND TARGET phynjo::mpi)
+    # the simulator shares sweeps among MPI ranks when mpirun starts it (phynjo/mpi/mpi_sweep.hpp)
+    target_link_libraries(${PHYNJO_TARGET} PRIVATE phynjo::mpi)
+    target_compile_definitions(${PHYNJO_TARGET} PRIVATE PHYNJO_MPI=1)
+  endif()
   target_compile_features(${PHYNJO_TARGET} PUBLIC cxx_std_20)
   # the contract: the generated pair compiles warning-free
   target_compile_options(${PHYNJO_TARGET} PRIVATE -Wall -Wextra -Werror)

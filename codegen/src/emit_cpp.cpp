@@ -80,7 +80,9 @@ EmittedCpp emit_cpp(const Model& m, const EquationsOfMotion& raw, const EmitOpti
         s << "#include \"" << options.header_name << "\"\n";
         if (!with_glue) s << "#undef PHYNJO_GENERATED_FUNCTIONS_ONLY\n";
         s << "\n#include <algorithm>\n#include <cmath>\n#include <stdexcept>\n#include <string>\n";
-        if (with_main) s << "\n#include \"phynjo/runtime/models/model_main.hpp\"\n";
+        if (with_main)
+            s << "\n#include \"phynjo/runtime/models/model_main.hpp\"\n"
+              << "#ifdef PHYNJO_MPI\n#include \"phynjo/mpi/mpi_sweep.hpp\"\n#endif\n";
         s << "\nnamespace " << m.name << " {\n\nnamespace {\n"
           << "[[maybe_unused]] void check_size(std::span<const double> a, std::size_t n, const char* function, const char* name) {\n"
           << "    if (a.size() != n)\n"

@@ -17,7 +17,11 @@ std::string emit_main(const Model& m) {
           << " = v; }}";
     s << "},\n"
       << "                                                  [&P] { return " << m.name << "::system(P); }};\n"
+      << "#ifdef PHYNJO_MPI // phynjo_add_model links phynjo::mpi: a sweep started by mpirun is shared among the ranks\n"
+      << "    return phynjo::mpi::model_main(argc, argv, model);\n"
+      << "#else\n"
       << "    return phynjo::runtime::model_main(argc, argv, model);\n"
+      << "#endif\n"
       << "}\n";
     return s.str();
 }

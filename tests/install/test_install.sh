@@ -13,4 +13,5 @@ cmake -S "$src/tests/install/consumer" -B "$work/consumer" -DCMAKE_PREFIX_PATH="
 cmake --build "$work/consumer" >/dev/null
 "$work/consumer/consumer"
 "$work/consumer/app"
+. "$(dirname "$0")/sweep_check.sh" "$work/consumer/pendulum_sweeper"
 echo "1 passed, 0 failed"

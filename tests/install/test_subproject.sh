@@ -19,5 +19,6 @@ done
 cmake --build "$work/consumer" -j "$(nproc)" >"$work/build.log" || { tail -40 "$work/build.log"; exit 1; }
 "$work/consumer/consumer" >/dev/null
 "$work/consumer/app" >/dev/null
+. "$(dirname "$0")/sweep_check.sh" "$work/consumer/pendulum_sweeper"
 "$work/consumer/test_cas" >/dev/null
 echo "1 passed, 0 failed"

@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
-# Sweeps (--grid, --uniform, --samples, --seed, --summary, --threads) of a generated
+# Sweeps (--grid, --uniform, --samples, --seed, --summary, --trajectories, --threads) of a generated
 # simulator, on the double pendulum with flip events (examples/models/flip_pendulum.lag).
 # Catches: a summary that depends on the thread count (rows out of order, a shared RNG, a
 # model shared between threads), a resume that loses, repeats or garbles runs (after a kill
 # -9 or a partly written row), a summary of another command taken over, grid points off their
 # formula, Monte Carlo values outside their range or not reproducible from the seed, a failing
-# run that ends the sweep instead of being recorded, malformed options accepted.
+# run that ends the sweep instead of being recorded, malformed options accepted, trajectory files
+# that differ from one run's --output, depend on the thread count or go missing on a resume.
 #   usage: test_sweep_main.sh FLIP_SIM
 set -u
 sim=$1
@@ -83,6 +84,33 @@ awk -F, 'NR > 2 { g[NR - 3] = $2 } END { exit !(g[0] == 9 && g[2] == 9 && g[3] =
   && [ "$(sed -n 4p "$work/f.csv" | cut -d, -f3)" = finished ] && ok "m1 = m2 = 0: failed with a reason, the next run finished" \
   || bad "failing run: rc $rc; $(sed -n 3,4p "$work/f.csv")"
 
+# --trajectories: each run's file is what one run's --output writes (a stopped run's too), the
+# same files on 1 and 3 threads; a resumed sweep writes the files of the runs it adds.
+tr=(--grid th1=-3:3:7 --grid th2=-3:3:7 --t-end 2 --every 50)
+"$sim" "${tr[@]}" --summary "$work/t1.csv" --trajectories "$work/t1"
+"$sim" "${tr[@]}" --summary "$work/t1b.csv" --trajectories "$work/t3" --threads 3
+[ "$(ls "$work/t1" | wc -l)" -eq 49 ] && [ -f "$work/t1/run_00.csv" ] && [ -f "$work/t1/run_48.csv" ] \
+  && ok "49 trajectory files, run_00 ... run_48" || bad "trajectory files: $(ls "$work/t1" | head -3)"
+diff -r "$work/t1" "$work/t3" > /dev/null && ok "trajectories: the same files on 1 and 3 threads" || bad "trajectories differ with threads"
+"$sim" --t-end 2 --every 50 --init th1=-3,th2=-3 -o "$work/one0.csv" 2> /dev/null
+"$sim" --t-end 2 --every 50 --init th1=-1,th2=1 -o "$work/one18.csv"
+cmp -s "$work/one0.csv" "$work/t1/run_00.csv" && ok "run 0 (stopped by a flip): one run's --output" || bad "run_00 differs from one run"
+grep -q "^18,-1,1,finished," "$work/t1.csv" && cmp -s "$work/one18.csv" "$work/t1/run_18.csv" \
+  && ok "run 18 (th1 = -1, th2 = 1, finished): one run's --output" || bad "run_18 differs from one run"
+awk -F, 'NR > 1 { if (abs($1 - 0.05 * (NR - 2)) > 1e-12) bad = 1 } END { exit bad || NR != 42 }
+  function abs(v) { return v < 0 ? -v : v }' "$work/t1/run_18.csv" && ok "--every 50: 41 rows at t = 0.05 k" || bad "every"
+# a sweep into tp killed after 30 runs: its summary's first 30 rows and their trajectories
+# (the signature names the folder)
+{ head -1 "$work/t1.csv" | sed "s|--trajectories [^ ]*|--trajectories $work/tp|"; sed -n 2,32p "$work/t1.csv"; } > "$work/tp.csv"
+rm -rf "$work/tp"; mkdir "$work/tp"; cp "$work/t1"/run_[0-2]?.csv "$work/tp/"
+"$sim" "${tr[@]}" --summary "$work/tp.csv" --trajectories "$work/tp" 2> "$work/tp.err"
+grep -q "after its 30 of 49 runs" "$work/tp.err" && [ "$(tail -n +2 "$work/tp.csv" | md5sum)" = "$(tail -n +2 "$work/t1.csv" | md5sum)" ] \
+  && diff -r "$work/t1" "$work/tp" > /dev/null && ok "resumed after 30 runs: the other 19 trajectories written" \
+  || bad "resume with trajectories: $(cat "$work/tp.err")"
+"$sim" --grid th1=0:1:2 --t-end 0.1 --summary "$work/tf.csv" --trajectories /proc/phynjo-no 2> "$work/tf.err"; rc=$?
+[ $rc -eq 1 ] && grep -q "cannot make the folder /proc/phynjo-no" "$work/tf.err" && ok "an unwritable folder: exit 1, named" \
+  || bad "unwritable folder: rc $rc $(cat "$work/tf.err")"
+
 # Bad input: a clear error, exit 2.
 expect_usage() {
   local what=$1; shift
@@ -98,6 +126,8 @@ expect_usage "needs --summary FILE" --grid th1=0:1:3
 expect_usage "--samples needs --uniform" --grid th1=0:1:3 --samples 4 --summary "$work/x.csv"
 expect_usage "swept twice" --grid th1=0:1:3 --uniform th1=0:1 --summary "$work/x.csv"
 expect_usage "are for one run" --grid th1=0:1:3 --summary "$work/x.csv" -o "$work/y.csv"
+expect_usage "--every goes with one run's --output or a sweep's --trajectories" --grid th1=0:1:3 --summary "$work/x.csv" --every 3
+expect_usage "--trajectories needs a folder" --grid th1=0:1:3 --summary "$work/x.csv" --trajectories ""
 expect_usage "sweeps run with --integrator rk4" --grid th1=0:1:3 --summary "$work/x.csv" --integrator cvode
 [ ! -e "$work/x.csv" ] && ok "no summary written on a usage error" || bad "x.csv written"
 finish

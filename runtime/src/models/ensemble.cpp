@@ -14,6 +14,8 @@
 #include <cmath>
 #include <cstdio>
 #include <exception>
+#include <filesystem>
+#include <map>
 #include <limits>
 #include <optional>
 #include <stdexcept>
@@ -57,6 +59,23 @@ std::uint64_t splitmix64(std::uint64_t x) {
     x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
     x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
     return x ^ (x >> 31);
+}
+
+/// A CSV field: quoted when it holds a comma, a quote or a line break.
+std::string csv_field(const std::string& s) {
+    if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
+    std::string q = "\"";
+    for (char c : s) {
+        if (c == '"') q += '"';
+        q += c == '\n' || c == '\r' ? ' ' : c;
+    }
+    return q + "\"";
+}
+
+void append_number(std::string& out, double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.17g", v);
+    out += buf;
 }
 
 } // namespace
@@ -116,7 +135,8 @@ void SweepPlan::values(std::size_t run, std::span<double> out) const {
 }
 
 RunSummary run_one(const LagrangianSystem& sys, std::span<const std::pair<std::size_t, double>> q0,
-                   std::span<const std::pair<std::size_t, double>> v0, const RunSettings& settings) {
+                   std::span<const std::pair<std::size_t, double>> v0, const RunSettings& settings,
+                   std::string* trajectory) {
     RunSummary r;
     r.first_event.assign(sys.n_events, std::numeric_limits<double>::quiet_NaN());
     World w = make_lagrangian_world(sys);
@@ -137,13 +157,23 @@ RunSummary run_one(const LagrangianSystem& sys, std::span<const std::pair<std::s
         const long total = steps + (last > 1e-9 * settings.dt ? 1 : 0);
         EventMonitor monitor(sys, settings.events);
         const bool with_events = sys.n_events > 0;
-        auto after_step = [&] {
+        const long every = std::max(1L, settings.every);
+        auto row = [&](double e) {
+            append_number(*trajectory, w.time);
+            for (double x : w.field(kGQ)) *trajectory += ',', append_number(*trajectory, x);
+            for (double x : w.field(kGV)) *trajectory += ',', append_number(*trajectory, x);
+            *trajectory += ',', append_number(*trajectory, e);
+            *trajectory += '\n';
+        };
+        if (trajectory) row(e0);
+        auto after_step = [&](long k, bool last_step) {
             for (double x : w.field(kGQ))
                 if (!std::isfinite(x)) throw Error("the state is not finite");
             for (double x : w.field(kGV))
                 if (!std::isfinite(x)) throw Error("the state is not finite");
-            r.max_energy_error =
-                std::max(r.max_energy_error, std::abs(sys.energy(w.time, w.field(kGQ), w.field(kGV)) - e0) / scale);
+            const double e = sys.energy(w.time, w.field(kGQ), w.field(kGV));
+            r.max_energy_error = std::max(r.max_energy_error, std::abs(e - e0) / scale);
+            if (trajectory && (k % every == 0 || last_step)) row(e);
         };
         auto drive = [&](auto&& step_to, const EventMonitor::Extension* extension) {
             for (long k = 1; k <= total; ++k) {
@@ -153,10 +183,10 @@ RunSummary run_one(const LagrangianSystem& sys, std::span<const std::pair<std::s
                     step_to(target, h);
                     w.time = target;
                 } else if (!advance_with_events(monitor, w, target, h, step_to, extension)) {
-                    after_step();
+                    after_step(k, true);
                     return;
                 }
-                after_step();
+                after_step(k, k == total);
             }
         };
         if (settings.integrator == "dopri") {
@@ -192,23 +222,6 @@ RunSummary run_one(const LagrangianSystem& sys, std::span<const std::pair<std::s
 
 namespace {
 
-/// A CSV field: quoted when it holds a comma, a quote or a line break.
-std::string csv_field(const std::string& s) {
-    if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
-    std::string q = "\"";
-    for (char c : s) {
-        if (c == '"') q += '"';
-        q += c == '\n' || c == '\r' ? ' ' : c;
-    }
-    return q + "\"";
-}
-
-void append_number(std::string& out, double v) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.17g", v);
-    out += buf;
-}
-
 /// Where each swept name goes: a parameter (its setter), an initial value, an initial velocity.
 struct Target {
     enum Kind { parameter, position, velocity } kind;
@@ -218,8 +231,11 @@ struct Target {
 } // namespace
 
 int run_sweep(const SweepCommand& cmd, const ModelCommandLine& model, const char* program) {
+    SweepProcesses* const processes = cmd.processes;
+    const unsigned rank = processes ? processes->rank() : 0, ranks = processes ? processes->size() : 1;
+    // every rank checks the same command and reaches the same verdict; rank 0 says it
     auto usage = [&](const std::string& m) {
-        std::fprintf(stderr, "%s: %s\n", program, m.c_str());
+        if (rank == 0) std::fprintf(stderr, "%s: %s\n", program, m.c_str());
         return 2;
     };
     const LagrangianSystem base = model.system();
@@ -265,61 +281,88 @@ int run_sweep(const SweepCommand& cmd, const ModelCommandLine& model, const char
     for (const auto& e : base.event_names) header += ",first_" + e;
     header += ",max_energy_error,reason";
 
-    // Resume: keep the complete rows of a summary this same command began.
-    std::size_t done = 0;
-    if (std::FILE* old = std::fopen(cmd.summary.c_str(), "r")) {
-        std::string text;
-        char buf[65536];
-        for (std::size_t got; (got = std::fread(buf, 1, sizeof buf, old)) > 0;) text.append(buf, got);
-        std::fclose(old);
-        if (!text.empty()) {
-            const auto nl = text.find('\n');
-            if (nl == std::string::npos || text.substr(0, nl) != first_line)
-                return usage("--summary " + cmd.summary + " was written by another command (its first line is not '" +
-                             first_line + "'); remove it or choose another file");
-            const auto nl2 = text.find('\n', nl + 1);
-            std::size_t keep = nl2 == std::string::npos ? 0 : nl2 + 1; // after the header
-            if (keep > 0) {
-                if (text.substr(nl + 1, nl2 - nl - 1) != header)
-                    return usage("--summary " + cmd.summary + ": its header does not match this model's");
-                for (std::size_t p = keep; (p = text.find('\n', p)) != std::string::npos; ++p) {
-                    ++done;
-                    keep = p + 1;
-                }
-            }
-            if (done > total) return usage("--summary " + cmd.summary + " holds more rows than this sweep has runs");
-            if (keep < text.size() || keep == 0) { // drop a partial row (or a partial header)
-                if (::truncate(cmd.summary.c_str(), static_cast<off_t>(keep)) != 0) {
-                    std::fprintf(stderr, "%s: cannot truncate %s\n", program, cmd.summary.c_str());
-                    return 1;
-                }
-            }
-            if (keep == 0) done = 0;
-        }
-    }
-    std::FILE* out = std::fopen(cmd.summary.c_str(), "a");
-    if (!out) {
-        std::fprintf(stderr, "%s: cannot write %s\n", program, cmd.summary.c_str());
-        return 1;
-    }
-    std::fseek(out, 0, SEEK_END);
-    if (std::ftell(out) == 0) std::fprintf(out, "%s\n%s\n", first_line.c_str(), header.c_str());
-    std::fflush(out);
-    if (done > 0) std::fprintf(stderr, "%s: resuming %s after its %zu of %zu runs\n", program, cmd.summary.c_str(), done, total);
-
     const unsigned threads = std::max(1u, cmd.threads);
+    // Rank 0 opens the summary (resuming it) and the trajectories' folder, then tells every
+    // rank the verdict, where the sweep goes on, and the batch size.
+    std::FILE* out = nullptr;
+    std::uint64_t shared[3] = {0, 0, std::max<std::uint64_t>(64, 16 * std::uint64_t{threads})}; // status, done, batch
+    auto open_summary = [&]() -> int {
+        // Resume: keep the complete rows of a summary this same command began.
+        std::size_t done = 0;
+        if (std::FILE* old = std::fopen(cmd.summary.c_str(), "r")) {
+            std::string text;
+            char buf[65536];
+            for (std::size_t got; (got = std::fread(buf, 1, sizeof buf, old)) > 0;) text.append(buf, got);
+            std::fclose(old);
+            if (!text.empty()) {
+                const auto nl = text.find('\n');
+                if (nl == std::string::npos || text.substr(0, nl) != first_line)
+                    return usage("--summary " + cmd.summary + " was written by another command (its first line is not '" +
+                                 first_line + "'); remove it or choose another file");
+                const auto nl2 = text.find('\n', nl + 1);
+                std::size_t keep = nl2 == std::string::npos ? 0 : nl2 + 1; // after the header
+                if (keep > 0) {
+                    if (text.substr(nl + 1, nl2 - nl - 1) != header)
+                        return usage("--summary " + cmd.summary + ": its header does not match this model's");
+                    for (std::size_t p = keep; (p = text.find('\n', p)) != std::string::npos; ++p) {
+                        ++done;
+                        keep = p + 1;
+                    }
+                }
+                if (done > total) return usage("--summary " + cmd.summary + " holds more rows than this sweep has runs");
+                if (keep < text.size() || keep == 0) { // drop a partial row (or a partial header)
+                    if (::truncate(cmd.summary.c_str(), static_cast<off_t>(keep)) != 0) {
+                        std::fprintf(stderr, "%s: cannot truncate %s\n", program, cmd.summary.c_str());
+                        return 1;
+                    }
+                }
+                if (keep == 0) done = 0;
+            }
+        }
+        if (!cmd.trajectories.empty()) {
+            std::error_code ec;
+            std::filesystem::create_directories(cmd.trajectories, ec);
+            if (ec || !std::filesystem::is_directory(cmd.trajectories)) {
+                std::fprintf(stderr, "%s: --trajectories: cannot make the folder %s\n", program, cmd.trajectories.c_str());
+                return 1;
+            }
+        }
+        out = std::fopen(cmd.summary.c_str(), "a");
+        if (!out) {
+            std::fprintf(stderr, "%s: cannot write %s\n", program, cmd.summary.c_str());
+            return 1;
+        }
+        std::fseek(out, 0, SEEK_END);
+        if (std::ftell(out) == 0) std::fprintf(out, "%s\n%s\n", first_line.c_str(), header.c_str());
+        std::fflush(out);
+        if (done > 0) std::fprintf(stderr, "%s: resuming %s after its %zu of %zu runs\n", program, cmd.summary.c_str(), done, total);
+        shared[1] = done;
+        return 0;
+    };
+    if (rank == 0) shared[0] = static_cast<std::uint64_t>(open_summary());
+    if (processes) processes->broadcast(shared);
+    if (shared[0] != 0) return static_cast<int>(shared[0]);
+    const std::size_t done = shared[1], batch = shared[2];
+    const std::size_t batches = (total - done + batch - 1) / batch;
+
+    // A trajectory file's name: run numbers zero-padded to the width of the last one's.
+    const int width = static_cast<int>(std::to_string(total > 0 ? total - 1 : 0).size());
+    std::string trajectory_header = "t";
+    for (const auto& c : coords) trajectory_header += "," + c;
+    for (const auto& c : coords) trajectory_header += "," + c + "'";
+    trajectory_header += ",E\n";
+
     Executor executor(threads);
-    const std::size_t batch = std::max<std::size_t>(64, 16 * threads);
     std::vector<LagrangianSystem> systems;
     std::vector<std::vector<std::pair<std::size_t, double>>> q0s(batch), v0s(batch);
     std::vector<RunSummary> results(batch);
     std::vector<double> values(names.size());
     std::vector<std::vector<double>> batch_values(batch);
-    const bool progress = ::isatty(STDERR_FILENO) != 0;
-    const auto start = std::chrono::steady_clock::now();
-    auto last_report = start;
-    for (std::size_t first = done; first < total; first += batch) {
-        const std::size_t count = std::min(batch, total - first);
+    std::vector<std::string> trajectory(threads);
+    std::vector<std::string> trajectory_failed(threads); // a file a thread could not write
+    // Batch b (runs done + b·batch …): run on this rank's threads, its summary rows returned.
+    auto run_batch = [&](std::size_t b) {
+        const std::size_t first = done + b * batch, count = std::min(batch, total - first);
         systems.clear();
         for (std::size_t j = 0; j < count; ++j) { // on this thread: the setters share the model's parameters
             cmd.plan.values(first + j, values);
@@ -334,10 +377,29 @@ int run_sweep(const SweepCommand& cmd, const ModelCommandLine& model, const char
             if (parameters_swept) systems.push_back(model.system());
         }
         auto task = [&](unsigned i) {
-            for (std::size_t j = i; j < count; j += threads)
-                results[j] = run_one(parameters_swept ? systems[j] : base, q0s[j], v0s[j], cmd.settings);
+            for (std::size_t j = i; j < count; j += threads) {
+                if (cmd.trajectories.empty()) {
+                    results[j] = run_one(parameters_swept ? systems[j] : base, q0s[j], v0s[j], cmd.settings);
+                    continue;
+                }
+                std::string& rows = trajectory[i];
+                rows = trajectory_header;
+                results[j] = run_one(parameters_swept ? systems[j] : base, q0s[j], v0s[j], cmd.settings, &rows);
+                char name[48];
+                std::snprintf(name, sizeof name, "run_%0*zu.csv", width, first + j);
+                const std::string path = (std::filesystem::path(cmd.trajectories) / name).string();
+                std::FILE* f = std::fopen(path.c_str(), "w");
+                const bool ok = f && std::fwrite(rows.data(), 1, rows.size(), f) == rows.size();
+                if ((f && std::fclose(f) != 0) || !ok) trajectory_failed[i] = path;
+            }
         };
         executor.fork_join(threads, task);
+        for (const std::string& path : trajectory_failed)
+            if (!path.empty()) { // this rank's own failure: it speaks, and the sweep ends
+                std::fprintf(stderr, "%s: --trajectories: cannot write %s\n", program, path.c_str());
+                if (ranks > 1) processes->abort(1);
+                return std::optional<std::string>();
+            }
         std::string rows;
         for (std::size_t j = 0; j < count; ++j) {
             const RunSummary& r = results[j];
@@ -355,23 +417,65 @@ int run_sweep(const SweepCommand& cmd, const ModelCommandLine& model, const char
             append_number(rows, r.max_energy_error);
             rows += ',' + csv_field(r.reason) + '\n';
         }
-        if (std::fwrite(rows.data(), 1, rows.size(), out) != rows.size() || std::fflush(out) != 0) {
-            std::fprintf(stderr, "%s: cannot write %s\n", program, cmd.summary.c_str());
-            std::fclose(out);
-            return 1;
+        return std::optional<std::string>(std::move(rows));
+    };
+
+    if (rank != 0) { // a worker: its batches, round robin, to rank 0
+        for (std::size_t b = rank; b < batches; b += ranks) {
+            auto rows = run_batch(b);
+            processes->send(b, std::move(*rows));
         }
-        const auto now = std::chrono::steady_clock::now();
-        if (progress && (now - last_report > std::chrono::milliseconds(500) || first + count == total)) {
-            last_report = now;
-            const double sec = std::chrono::duration<double>(now - start).count();
-            const double finished = static_cast<double>(first + count - done), rate = finished / std::max(sec, 1e-9);
-            std::fprintf(stderr, "\r%s: %zu of %zu runs, %.1f runs/s, about %.0f s left   ", program, first + count, total, rate,
-                         static_cast<double>(total - first - count) / std::max(rate, 1e-9));
-            if (first + count == total) std::fprintf(stderr, "\n");
+        processes->flush();
+        return 0;
+    }
+
+    // Rank 0: its own batches, and the others' as they arrive, written in run order.
+    std::map<std::size_t, std::string> pending;
+    std::size_t next = 0; // the first batch not written
+    const bool progress = ::isatty(STDERR_FILENO) != 0;
+    const auto start = std::chrono::steady_clock::now();
+    auto last_report = start;
+    auto write_ready = [&] {
+        for (auto it = pending.begin(); it != pending.end() && it->first == next; it = pending.erase(it), ++next) {
+            const std::string& rows = it->second;
+            if (std::fwrite(rows.data(), 1, rows.size(), out) != rows.size() || std::fflush(out) != 0) {
+                std::fprintf(stderr, "%s: cannot write %s\n", program, cmd.summary.c_str());
+                if (ranks > 1) processes->abort(1);
+                return false;
+            }
+            const std::size_t written = std::min(total, done + (next + 1) * batch);
+            const auto now = std::chrono::steady_clock::now();
+            if (progress && (now - last_report > std::chrono::milliseconds(500) || written == total)) {
+                last_report = now;
+                const double sec = std::chrono::duration<double>(now - start).count();
+                const double rate = static_cast<double>(written - done) / std::max(sec, 1e-9);
+                std::fprintf(stderr, "\r%s: %zu of %zu runs, %.1f runs/s, about %.0f s left   ", program, written, total, rate,
+                             static_cast<double>(total - written) / std::max(rate, 1e-9));
+                if (written == total) std::fprintf(stderr, "\n");
+            }
         }
+        return true;
+    };
+    bool ok = true;
+    for (std::size_t b = 0; ok && b < batches; b += ranks) {
+        auto rows = run_batch(b);
+        if (!rows) {
+            ok = false;
+            break;
+        }
+        pending.emplace(b, std::move(*rows));
+        if (ranks > 1)
+            while (auto got = processes->receive(false)) pending.emplace(got->first, std::move(got->second));
+        ok = write_ready();
+    }
+    while (ok && next < batches) {
+        auto got = processes->receive(true);
+        pending.emplace(got->first, std::move(got->second));
+        ok = write_ready();
     }
     std::fclose(out);
-    return 0;
+    if (processes) processes->flush();
+    return ok ? 0 : 1;
 }
 
 } // namespace phynjo::runtime

@@ -44,7 +44,7 @@ void help(const char* prog, const ModelCommandLine& model, const LagrangianSyste
                 "          [--projection-tolerance TOL] [--rtol R] [--atol A]\n"
                 "          [--events FILE] [--rest-speed V] [--max-events-per-step N] [--shapes FILE]\n"
                 "       %s --grid NAME=LO:HI:N... [--uniform NAME=LO:HI... --samples K [--seed S]]\n"
-                "          --summary FILE [--threads N] [the options of one run]\n"
+                "          --summary FILE [--trajectories DIR [--every K]] [--threads N] [the options of one run]\n"
                 "Simulates the model %.*s from its initial state and writes CSV: t, q..., q'..., E\n"
                 "(and, for a model with constraints, their multipliers lambda_NAME...).\n"
                 "  --t-end T              end time in s (default 10); the run ends exactly at T\n"
@@ -100,7 +100,13 @@ void help(const char* prog, const ModelCommandLine& model, const LagrangianSyste
                 "                         The same bytes for any --threads. Run again with the same\n"
                 "                         options, a summary interrupted (killed) goes on from its last\n"
                 "                         complete row; a summary of other options is refused\n"
+                "  --trajectories DIR     also write each run's trajectory to DIR/run_K.csv (the folder is\n"
+                "                         made if missing): t, q..., q'..., E, every K-th step (--every K;\n"
+                "                         default: about 5000 rows), the first and the last always\n"
                 "  --threads N            run the sweep on N threads (default 1)\n"
+                "Under mpirun (phynjo_add_model's simulators, when built with MPI) a sweep is shared\n"
+                "among the ranks, each on --threads N threads; rank 0 writes the summary, the same bytes\n"
+                "for any number of ranks.\n"
                 "Exit status: 0 done, 1 the run stopped (the message says why and when), 2 usage error,\n"
                 "3 energy drift beyond the tolerance (with --fail-on-drift).\n",
                 prog, prog, static_cast<int>(model.model_name.size()), model.model_name.data(), params.empty() ? "(none)" : params.c_str(),
@@ -109,7 +115,10 @@ void help(const char* prog, const ModelCommandLine& model, const LagrangianSyste
 
 } // namespace
 
-int model_main(int argc, char** argv, const ModelCommandLine& model) {
+int model_main(int argc, char** argv, const ModelCommandLine& model) { return model_main(argc, argv, model, nullptr); }
+
+int model_main(int argc, char** argv, const ModelCommandLine& model, SweepProcesses* processes) {
+    const bool speaks = !processes || processes->rank() == 0; // of several ranks, rank 0 alone prints
     double t_end = 10, dt = 1e-3;
     std::optional<double> energy_tolerance;
     bool fail_on_drift = false, project_initial = false;
@@ -160,6 +169,10 @@ int model_main(int argc, char** argv, const ModelCommandLine& model) {
                 sweeping = sweeping || a != "--threads";
             } else if (a == "--summary") {
                 sweep.summary = value("--summary");
+                sweeping = true;
+            } else if (a == "--trajectories") {
+                sweep.trajectories = value("--trajectories");
+                if (sweep.trajectories.empty()) throw UsageError{"--trajectories needs a folder"};
                 sweeping = true;
             } else if (a == "--t-end") t_end = num("--t-end");
             else if (a == "--dt") dt = num("--dt");
@@ -217,7 +230,7 @@ int model_main(int argc, char** argv, const ModelCommandLine& model) {
                     start = comma + 1;
                 }
             } else if (a == "--help" || a == "-h") {
-                help(argv[0], model, model.system());
+                if (speaks) help(argv[0], model, model.system());
                 return 0;
             } else throw UsageError{"unknown option '" + a + "' (try --help)"};
         }
@@ -234,12 +247,14 @@ int model_main(int argc, char** argv, const ModelCommandLine& model) {
             if (sweep.plan.grid.empty() && sweep.plan.uniform.empty())
                 throw UsageError{"--summary, --samples and --seed go with --grid or --uniform"};
             if (sweep.plan.uniform.empty() && sweep.plan.samples != 1) throw UsageError{"--samples needs --uniform NAME=LO:HI"};
-            if (single_run_output || every > 0 || energy_tolerance || project_initial || rtol || atol)
-                throw UsageError{"--output, --events, --shapes, --every, --energy-tolerance, --project-initial, --rtol and "
-                                 "--atol are for one run; a sweep writes --summary"};
-        }
+            if (single_run_output || energy_tolerance || project_initial || rtol || atol)
+                throw UsageError{"--output, --events, --shapes, --energy-tolerance, --project-initial, --rtol and "
+                                 "--atol are for one run; a sweep writes --summary (and --trajectories)"};
+            if (every > 0 && sweep.trajectories.empty()) throw UsageError{"--every goes with one run's --output or a sweep's --trajectories"};
+        } else if (processes && processes->size() > 1)
+            throw UsageError{"only a sweep (--grid, --uniform) runs on several MPI ranks; run one simulation without mpirun"};
     } catch (const UsageError& e) {
-        std::fprintf(stderr, "%s: %s\n", argv[0], e.message.c_str());
+        if (speaks) std::fprintf(stderr, "%s: %s\n", argv[0], e.message.c_str());
         return 2;
     }
 
@@ -250,7 +265,15 @@ int model_main(int argc, char** argv, const ModelCommandLine& model) {
         sweep.settings.events = event_options;
         sweep.settings.projection = projection;
         sweep.inits = inits;
-        // What decides the results: every option but --threads and --summary, in order.
+        sweep.processes = processes;
+        if (every <= 0) { // about 5000 rows per trajectory, as one run's --output
+            const long steps = static_cast<long>(std::floor(t_end / dt));
+            every = std::max(1L, steps / 5000);
+        }
+        sweep.settings.every = every;
+        // What decides the results (and --trajectories: a resumed sweep writes the trajectories
+        // of the runs it adds where the first part wrote its own): every option but --threads
+        // and --summary, in order.
         for (int i = 1; i < argc; ++i) {
             const std::string a = argv[i];
             if ((a == "--threads" || a == "--summary") && i + 1 < argc) {

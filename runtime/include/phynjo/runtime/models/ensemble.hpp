@@ -11,6 +11,7 @@
 #include "phynjo/runtime/models/model_main.hpp"
 
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -65,14 +66,40 @@ struct RunSettings {
     std::string integrator = "rk4"; ///< rk4, midpoint, rattle or dopri
     EventOptions events;
     ProjectionOptions projection;
+    long every = 1; ///< a trajectory's rows: every `every`-th step (the first and last always)
 };
 
 /// One run from the system's initial state with the initial values `q0` and `v0` set
 /// (coordinate index, value) to t_end, with the model's events. Never throws for a failing
 /// run: a thrown error, a non-finite state or a constraint violated at the start are a
-/// `failed` summary with the reason; a `stop` event is a `stopped` one.
+/// `failed` summary with the reason; a `stop` event is a `stopped` one. With `trajectory`, the
+/// run's rows are appended to it as CSV lines `t,q…,q'…,E` (%.17g; the simulator's --output
+/// without its header): t = 0, every `settings.every`-th step, and the last step.
 RunSummary run_one(const LagrangianSystem& system, std::span<const std::pair<std::size_t, double>> q0,
-                   std::span<const std::pair<std::size_t, double>> v0, const RunSettings& settings);
+                   std::span<const std::pair<std::size_t, double>> v0, const RunSettings& settings,
+                   std::string* trajectory = nullptr);
+
+/// The processes a sweep is shared among: this process alone unless a SweepCommand names others
+/// (MPI's ranks: phynjo/mpi/mpi_sweep.hpp). The runs go in batches of equal size, batch i to
+/// rank i mod size() (round robin: the ranks' shares of a map whose runs differ in length stay
+/// even); rank 0 writes every row, in run order, the others send it theirs.
+class SweepProcesses {
+public:
+    virtual ~SweepProcesses() = default;
+    [[nodiscard]] virtual unsigned rank() const = 0;
+    [[nodiscard]] virtual unsigned size() const = 0;
+    /// Collective: every rank returns rank 0's `values`.
+    virtual void broadcast(std::span<std::uint64_t> values) = 0;
+    /// A rank other than 0: batch `batch`'s rows to rank 0. May return before they are delivered.
+    virtual void send(std::uint64_t batch, std::string rows) = 0;
+    /// Rank 0: a batch another rank sent (its index and rows); without `wait`, nullopt when
+    /// none has arrived.
+    virtual std::optional<std::pair<std::uint64_t, std::string>> receive(bool wait) = 0;
+    /// Every send delivered; called by every rank before it returns.
+    virtual void flush() = 0;
+    /// Rank 0 cannot go on (the summary cannot be written): ends every rank with `status`.
+    [[noreturn]] virtual void abort(int status) = 0;
+};
 
 /// A sweep as the simulators' command line gives it (model_main collects the options).
 struct SweepCommand {
@@ -84,6 +111,11 @@ struct SweepCommand {
     /// a resumed sweep must have the same.
     std::string signature;
     std::vector<std::pair<std::string, double>> inits; ///< --init values for every run
+    /// Where each run's trajectory goes (`DIR/run_K.csv`, K zero-padded to the width of the
+    /// last run's number); empty: none.
+    std::string trajectories;
+    /// The ranks this sweep is shared among; null: this process alone.
+    SweepProcesses* processes = nullptr;
 };
 
 /// Runs a sweep of `model` and writes its summary: a first line `# phynjo sweep: SIGNATURE`,
@@ -92,7 +124,8 @@ struct SweepCommand {
 /// exists with the same first line, the runs it already holds are kept and the sweep goes on
 /// after them (a partly written last row is dropped); another first line is refused. Runs go
 /// to `threads` threads in batches; rows are written and flushed batch by batch. Progress goes
-/// to stderr when it is a terminal. Exit status: 0 done (failed runs are rows, not errors),
+/// to stderr when it is a terminal. With `processes`, every rank calls this with the same
+/// command; only rank 0 opens the summary and speaks, and every rank returns its status. Exit status: 0 done (failed runs are rows, not errors),
 /// 1 the summary cannot be written, 2 a usage error (an unknown name, a summary of another
 /// command).
 int run_sweep(const SweepCommand& command, const ModelCommandLine& model, const char* program);

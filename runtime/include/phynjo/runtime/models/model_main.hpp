@@ -26,8 +26,14 @@ struct ModelCommandLine {
     std::function<LagrangianSystem()> system;
 };
 
+class SweepProcesses; // ensemble.hpp
+
 /// Runs the simulator: exit status 0 on success, 1 when the run stops on an error (the
 /// message names the time), 2 for a usage error.
 int model_main(int argc, char** argv, const ModelCommandLine& model);
+/// The same, one of several processes (MPI ranks: phynjo/mpi/mpi_sweep.hpp) that every one
+/// call this with the same arguments: a sweep is shared among them (run_sweep); only rank 0
+/// prints; anything but a sweep on more than one process is a usage error.
+int model_main(int argc, char** argv, const ModelCommandLine& model, SweepProcesses* processes);
 
 } // namespace phynjo::runtime
