@@ -150,9 +150,7 @@ RunSummary run_one(const LagrangianSystem& sys, std::span<const std::pair<std::s
     try {
         if (sys.n_constraints > 0) check_constraints(sys, 0, w.field(kGQ), w.field(kGV));
         const double e0 = sys.energy(0, w.field(kGQ), w.field(kGV)), scale = std::max(1.0, std::abs(e0));
-        const double ratio = settings.t_end / settings.dt;
-        long steps = static_cast<long>(std::floor(ratio));
-        if (ratio - static_cast<double>(steps) > 1 - 1e-9) ++steps;
+        const long steps = detail::whole_steps(settings.t_end, settings.dt);
         const double last = settings.t_end - static_cast<double>(steps) * settings.dt;
         const long total = steps + (last > 1e-9 * settings.dt ? 1 : 0);
         EventMonitor monitor(sys, settings.events);

@@ -267,8 +267,7 @@ int model_main(int argc, char** argv, const ModelCommandLine& model, SweepProces
         sweep.inits = inits;
         sweep.processes = processes;
         if (every <= 0) { // about 5000 rows per trajectory, as one run's --output
-            const long steps = static_cast<long>(std::floor(t_end / dt));
-            every = std::max(1L, steps / 5000);
+            every = std::max(1L, detail::whole_steps(t_end, dt) / 5000);
         }
         sweep.settings.every = every;
         // What decides the results (and --trajectories: a resumed sweep writes the trajectories
@@ -325,9 +324,7 @@ int model_main(int argc, char** argv, const ModelCommandLine& model, SweepProces
     }
     // Full steps, then a shortened last one: the run ends exactly at t_end (a ratio within
     // 1e-9 of a whole number counts as that number: 20 / 0.001 is 20000, not 20000.000000000004).
-    const double ratio = t_end / dt;
-    long steps = static_cast<long>(std::floor(ratio));
-    if (ratio - static_cast<double>(steps) > 1 - 1e-9) ++steps;
+    const long steps = detail::whole_steps(t_end, dt);
     const double last = t_end - static_cast<double>(steps) * dt;
     const bool short_step = last > 1e-9 * dt;
     if (every <= 0) every = std::max(1L, steps / 5000);
