@@ -84,10 +84,14 @@ EmittedCpp emit_cpp(const Model& m, const EquationsOfMotion& raw, const EmitOpti
             s << "\n#include \"phynjo/runtime/models/model_main.hpp\"\n"
               << "#ifdef PHYNJO_MPI\n#include \"phynjo/mpi/mpi_sweep.hpp\"\n#endif\n";
         s << "\nnamespace " << m.name << " {\n\nnamespace {\n"
-          << "[[maybe_unused]] void check_size(std::span<const double> a, std::size_t n, const char* function, const char* name) {\n"
-          << "    if (a.size() != n)\n"
-          << "        throw std::invalid_argument(std::string(\"" << m.name << "::\") + function + \": \" + name + \" has \" +\n"
-          << "                                    std::to_string(a.size()) + \" entries, expected \" + std::to_string(n));\n"
+          << "[[noreturn, gnu::cold, maybe_unused]] void size_mismatch(std::size_t size, std::size_t n, const char* function,\n"
+          << "                                                      const char* name) {\n"
+          << "    throw std::invalid_argument(std::string(\"" << m.name << "::\") + function + \": \" + name + \" has \" +\n"
+          << "                                std::to_string(size) + \" entries, expected \" + std::to_string(n));\n"
+          << "}\n"
+          << "/// A compare and a branch in the caller; the message out of line.\n"
+          << "[[maybe_unused]] inline void check_size(std::span<const double> a, std::size_t n, const char* function, const char* name) {\n"
+          << "    if (a.size() != n) size_mismatch(a.size(), n, function, name);\n"
           << "}\n";
         s << emit_derived_parameters(m) << "} // namespace\n\n";
         return s.str();

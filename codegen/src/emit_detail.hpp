@@ -104,9 +104,11 @@ inline std::size_t upper_index(std::size_t i, std::size_t j, std::size_t n) {
 /// off-diagonal entry the literal 0): particles in Cartesian coordinates.
 bool is_diagonal(const std::vector<Expr>& mass_matrix, std::size_t n);
 /// `double d[n] = {…};` of the diagonal entries (C++ expressions) and the check that none is
-/// zero or below kSingularTolerance times the largest: SingularMassMatrix naming `where`.
+/// zero or below kSingularTolerance times the largest: else the statement `failure` (a throw of
+/// SingularMassMatrix, or a return).
 /// (Dividing by d[i] gives the bits of LDLᵀ on a diagonal matrix, without its O(n³) work.)
-std::string diagonal_mass(const std::vector<std::string>& diagonal, const std::string& where);
+std::string diagonal_mass(const std::vector<std::string>& diagonal, const std::string& failure);
+
 
 /// `(void)t;` and `(void)P;` for what a body does not use.
 std::string unused(bool uses_t, bool uses_params, bool has_t = true);

@@ -1,7 +1,8 @@
 // The model's functions in the generated source: mass_matrix, forcing, momenta,
 // generalized_forces, accelerations (closed-form 1×1 and 2×2 solves; above, LDLᵀ with a
-// pivoted-LU fallback for indefinite M),
-// energy and initial_state; each one straight-line body from one CSE pass.
+// pivoted-LU fallback for indefinite M), the constraints, events and shapes, energy and
+// initial_state, each one straight-line body from one CSE pass; and the fused kernels over
+// them (rk4_step, accelerations_energy_guards).
 #include "emit_detail.hpp"
 
 #include <sstream>
@@ -15,7 +16,7 @@ bool is_diagonal(const std::vector<Expr>& mass_matrix, std::size_t n) {
     return true;
 }
 
-std::string diagonal_mass(const std::vector<std::string>& diagonal, const std::string& where) {
+std::string diagonal_mass(const std::vector<std::string>& diagonal, const std::string& failure) {
     std::ostringstream s;
     s << "    const double d[" << diagonal.size() << "] = {";
     for (std::size_t i = 0; i < diagonal.size(); ++i) s << (i ? ", " : "") << diagonal[i];
@@ -23,7 +24,7 @@ std::string diagonal_mass(const std::vector<std::string>& diagonal, const std::s
       << "    for (double v : d) top = std::max(top, std::fabs(v));\n"
       << "    for (double v : d)\n"
       << "        if (!(std::fabs(v) > phynjo::runtime::kSingularTolerance * top))\n"
-      << "            throw phynjo::runtime::SingularMassMatrix(\"" << where << ": the mass matrix is singular\");\n";
+      << "            " << failure << "\n";
     return s.str();
 }
 
@@ -161,35 +162,48 @@ std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const N
             empty(fn, true, "out");
         empty("constraint_matrix", false, "G");
     }
-    // accelerations: M and f from one CSE pass, then the solve
+    // accelerations, event_guards, energy, rk4_step and accelerations_energy_guards: one group
+    // of split_functions (each closing line but the last carries a comment, so they stay in
+    // one file), over static inline cores of the arithmetic (accelerations_core, guards_core,
+    // energy_core). rk4_step calls accelerations_core for its stages (no std::function, no
+    // size checks between them); accelerations_energy_guards calls the three cores, whose
+    // sines and cosines the compiler computes once (sincos) when it inlines them. Each output's
+    // expression is the public function's own: the same bits.
+    const std::size_t ne = m.events.size();
+    const std::string glue = " // (one file with accelerations_energy_guards)\n";
+    // a core's pointers that its body does not read (a constant force, guards of t only)
+    auto unread = [](const std::string& b) {
+        return std::string(b.find("q[") == std::string::npos ? "    (void)q;\n" : "") +
+               (b.find("qdot[") == std::string::npos ? "    (void)qdot;\n" : "");
+    };
     if (mc == 0) {
+        // M and f from one CSE pass, then the solve
         std::vector<Expr> all = upper;
         all.insert(all.end(), eom.forcing.begin(), eom.forcing.end());
         const std::string b = body(names, all, res, uses_t, uses_p);
-        s << "void accelerations(const Parameters& P, double t, std::span<const double> q, std::span<const double> qdot,\n"
-          << "                   std::span<double> qddot) {\n"
-          << sizes("accelerations", {{"q", n}, {"qdot", n}, {"qddot", n}}) << unused(uses_t, uses_p) << b;
+        s << "[[maybe_unused]] static inline void accelerations_core(const Parameters& P, double t, const double* q,\n"
+          << "                                                     const double* qdot, double* qddot) {\n"
+          << unused(uses_t, uses_p) << unread(b) << b;
         auto fi = [&](std::size_t i) { return res[upper.size() + i]; };
-        const bool diagonal = is_diagonal(eom.mass_matrix, n);
+        const std::string singular =
+            "throw phynjo::runtime::SingularMassMatrix(\"" + m.name + "::accelerations: the mass matrix is singular\");";
         if (n == 1) {
             s << "    const double m00 = " << Mij(0, 0) << ";\n"
-              << "    if (m00 == 0) throw phynjo::runtime::SingularMassMatrix(\"" << m.name
-              << "::accelerations: the mass matrix is singular\");\n"
+              << "    if (m00 == 0) " << singular << "\n"
               << "    qddot[0] = (" << fi(0) << ")/m00;\n";
         } else if (n == 2) {
             s << "    const double m00 = " << Mij(0, 0) << ", m01 = " << Mij(0, 1) << ", m11 = " << Mij(1, 1) << ";\n"
               << "    const double f0 = " << fi(0) << ", f1 = " << fi(1) << ";\n"
               << "    const double det = m00*m11 - m01*m01;\n"
               << "    if (std::fabs(det) <= phynjo::runtime::kSingularTolerance*(std::fabs(m00*m11) + m01*m01))\n"
-              << "        throw phynjo::runtime::SingularMassMatrix(\"" << m.name
-              << "::accelerations: the mass matrix is singular\");\n"
+              << "        " << singular << "\n"
               << "    const double inv = 1.0/det;\n"
               << "    qddot[0] = (m11*f0 - m01*f1)*inv;\n"
               << "    qddot[1] = (m00*f1 - m01*f0)*inv;\n";
-        } else if (diagonal) {
+        } else if (is_diagonal(eom.mass_matrix, n)) {
             std::vector<std::string> d;
             for (std::size_t i = 0; i < n; ++i) d.push_back(Mij(i, i));
-            s << diagonal_mass(d, m.name + "::accelerations");
+            s << diagonal_mass(d, singular);
             for (std::size_t i = 0; i < n; ++i) s << "    qddot[" << i << "] = (" << fi(i) << ")/d[" << i << "];\n";
         } else {
             s << "    double A[" << n * n << "] = {";
@@ -203,23 +217,82 @@ std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const N
         s << "    for (std::size_t i = 0; i < " << n << "; ++i)\n"
           << "        if (!std::isfinite(qddot[i])) throw phynjo::runtime::NonFiniteResult(\"" << m.name
           << "::accelerations: non-finite result at t = \" + std::to_string(t));\n"
-          << "}\n\n";
+          << "}" << glue << "\n";
     }
-    // events (contract v2): the guards from one CSE pass; apply_event one case per event,
-    // every right side read from the state before any is stored
-    const std::size_t ne = m.events.size();
-    if (ne == 0) empty("event_guards", true, "g");
-    else {
+    {
+        // the guards from one CSE pass
         std::vector<Expr> guards;
         for (const Event& e : m.events) guards.push_back(e.guard);
         guards = cas::horner(guards);
-        const std::string b = body(names, guards, res, uses_t, uses_p);
-        s << "void event_guards(const Parameters& P, double t, std::span<const double> q, std::span<const double> qdot,\n"
-          << "    std::span<double> g) {\n"
-          << sizes("event_guards", {{"q", n}, {"qdot", n}, {"g", ne}}) << unused(uses_t, uses_p) << b;
+        const std::string b = ne > 0 ? body(names, guards, res, uses_t, uses_p) : std::string();
+        if (ne == 0) uses_t = uses_p = false;
+        s << "[[maybe_unused]] static inline void guards_core(const Parameters& P, double t, const double* q,\n"
+          << "                                              const double* qdot, double* g) {\n"
+          << unused(uses_t, uses_p) << unread(b) << b;
+        if (ne == 0) s << "    (void)g;\n";
         for (std::size_t k = 0; k < ne; ++k) s << "    g[" << k << "] = " << res[k] << ";\n";
-        s << "}\n\n";
+        s << "}" << glue << "\n";
     }
+    {
+        const std::string b = body(names, {eom.energy}, res, uses_t, uses_p);
+        s << "[[maybe_unused]] static inline double energy_core(const Parameters& P, double t, const double* q,\n"
+          << "                                                const double* qdot) {\n"
+          << unused(uses_t, uses_p) << unread(b) << b << "    return " << res[0] << ";\n}" << glue << "\n";
+    }
+    if (mc == 0)
+        s << "void accelerations(const Parameters& P, double t, std::span<const double> q, std::span<const double> qdot,\n"
+          << "                   std::span<double> qddot) {\n"
+          << sizes("accelerations", {{"q", n}, {"qdot", n}, {"qddot", n}})
+          << "    accelerations_core(P, t, q.data(), qdot.data(), qddot.data());\n}" << glue << "\n";
+    s << "void event_guards(const Parameters& P, double t, std::span<const double> q, std::span<const double> qdot,\n"
+      << "    std::span<double> g) {\n"
+      << sizes("event_guards", {{"q", n}, {"qdot", n}, {"g", ne}})
+      << "    guards_core(P, t, q.data(), qdot.data(), g.data());\n}" << glue << "\n";
+    s << "double energy(const Parameters& P, double t, std::span<const double> q, std::span<const double> qdot) {\n"
+      << sizes("energy", {{"q", n}, {"qdot", n}}) << "    return energy_core(P, t, q.data(), qdot.data());\n}" << glue
+      << "\n";
+    // rk4_step (phynjo extension): the runtime's lagrangian_rk4 rule, the same operations in
+    // the same order (the same bits), its first stage's q'' given
+    s << "void rk4_step(const Parameters& P, double t, double h, std::span<double> q, std::span<double> qdot,\n"
+      << "              std::span<const double> qddot) {\n"
+      << sizes("rk4_step", {{"q", n}, {"qdot", n}, {"qddot", n}})
+      << "    // the parameters in a local, which no store through q or qdot can change: the compiler\n"
+      << "    // then computes their products once for the three stages\n"
+      << "    const Parameters p = P;\n"
+      << "    std::array<double, " << n << "> q0, v0, aq, av, k;\n"
+      << "    for (std::size_t i = 0; i < " << n << "; ++i) {\n"
+      << "        q0[i] = q[i];\n        v0[i] = qdot[i];\n        aq[i] = av[i] = 0;\n        k[i] = qddot[i];\n    }\n"
+      << "    auto stage = [&](double weight, double next, bool last) {\n"
+      << "        for (std::size_t i = 0; i < " << n << "; ++i) {\n"
+      << "            const double kq = qdot[i], kv = k[i];\n"
+      << "            aq[i] += weight * kq;\n            av[i] += weight * kv;\n"
+      << "            if (last) {\n                q[i] = q0[i] + h * aq[i];\n                qdot[i] = v0[i] + h * av[i];\n"
+      << "            } else {\n                q[i] = q0[i] + next * h * kq;\n                qdot[i] = v0[i] + next * h * kv;\n"
+      << "            }\n        }\n    };\n";
+    auto stage_at = [&](const char* c) {
+        return mc == 0 ? "    accelerations_core(p, t + " + std::string(c) + " * h, q.data(), qdot.data(), k.data());\n"
+                       : "    accelerations(p, t + " + std::string(c) + " * h, q, qdot, k);\n";
+    };
+    s << "    stage(1.0 / 6, 0.5, false);\n" << stage_at("0.5") << "    stage(2.0 / 6, 0.5, false);\n" << stage_at("0.5")
+      << "    stage(2.0 / 6, 1.0, false);\n" << stage_at("1.0") << "    stage(1.0 / 6, 0, true);\n}" << glue << "\n";
+    // accelerations_energy_guards (phynjo extension): the three cores at one state
+    s << "bool accelerations_energy_guards(const Parameters& P, double t, std::span<const double> q,\n"
+      << "                                 std::span<const double> qdot, std::span<double> qddot, double& E,\n"
+      << "                                 std::span<double> g) {\n"
+      << sizes("accelerations_energy_guards", {{"q", n}, {"qdot", n}, {"qddot", n}, {"g", ne}})
+      << "    // the state in locals, which no store through E, g or qddot can change: the compiler\n"
+      << "    // then sees the same arguments of sin and cos in the three cores\n"
+      << "    std::array<double, " << n << "> x, v;\n"
+      << "    std::copy_n(q.begin(), " << n << ", x.begin());\n"
+      << "    std::copy_n(qdot.begin(), " << n << ", v.begin());\n"
+      << "    E = energy_core(P, t, x.data(), v.data());\n"
+      << "    guards_core(P, t, x.data(), v.data(), g.data());\n"
+      << "    try {\n"
+      << (mc == 0 ? "        accelerations_core(P, t, x.data(), v.data(), qddot.data());\n"
+                  : "        accelerations(P, t, x, v, qddot);\n")
+      << "    } catch (const phynjo::runtime::Error&) {\n        return false;\n    }\n    return true;\n}\n\n";
+    // events (contract v2): apply_event one case per event, every right side read from the
+    // state before any is stored
     s << "void apply_event(const Parameters& P, std::size_t k, double t, std::span<double> q, std::span<double> qdot) {\n"
       << sizes("apply_event", {{"q", n}, {"qdot", n}}) << "    (void)P;\n    (void)t;\n    switch (k) {\n";
     for (std::size_t k = 0; k < ne; ++k) {
@@ -281,13 +354,6 @@ std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const N
             for (std::size_t k = 0; k < radii.size(); ++k) s << "    r[" << k << "] = " << res[k] << ";\n";
         }
         s << "}\n\n";
-    }
-    // energy
-    {
-        const std::string b = body(names, {eom.energy}, res, uses_t, uses_p);
-        s << "double energy(const Parameters& P, double t, std::span<const double> q, std::span<const double> qdot) {\n"
-          << sizes("energy", {{"q", n}, {"qdot", n}}) << unused(uses_t, uses_p) << b << "    return " << res[0]
-          << ";\n}\n\n";
     }
     // initial_state
     {

@@ -60,7 +60,8 @@ void emit_one(std::ostringstream& s, const Model& m, const EquationsOfMotion& eo
     if (diagonal) {
         std::vector<std::string> d;
         for (std::size_t i = 0; i < n; ++i) d.push_back(res[upper_index(i, i, n)]);
-        s << diagonal_mass(d, where) << "    double acc[" << n << "];\n";
+        s << diagonal_mass(d, "throw phynjo::runtime::SingularMassMatrix(\"" + where + ": the mass matrix is singular\");")
+          << "    double acc[" << n << "];\n";
         for (std::size_t i = 0; i < n; ++i) s << "    acc[" << i << "] = (" << res[off_f + i] << ")/d[" << i << "];\n";
         s << "    (void)acc; // read by the entries only when M depends on q\n";
     } else {

@@ -17,6 +17,15 @@ NumericWorkflow lagrangian_rk4(const LagrangianSystem& s, const std::shared_ptr<
     const Domain state = Domain(kGQ, all) | Domain(kGV, all);
     const Domain storage = Domain(kGRkQ0, all) | Domain(kGRkV0, all) | Domain(kGRkAQ, all) | Domain(kGRkAV, all);
     NumericRule r{"lagrangian_rk4", state | storage, {}, nullptr, layout};
+    if (s.rk4_step) // generated code's fused step: the operations below, in their order
+        r.step = [acc = s.accelerations, step = s.rk4_step, n = s.dof](double dt, World& w) {
+            thread_local std::vector<double> kv;
+            if (kv.size() < n) kv.resize(n);
+            const std::span<double> k(kv.data(), n);
+            acc(w.time + 0.0 * dt, w.field(kGQ), w.field(kGV), k);
+            step(w.time, dt, w.field(kGQ), w.field(kGV), k);
+        };
+    else
     r.step = [acc = s.accelerations, n = s.dof](double dt, World& w) {
         // q'' of each stage; per thread, so that one workflow may step worlds on several threads
         thread_local std::vector<double> kv;

@@ -59,12 +59,26 @@ void EventMonitor::begin_step(const World& w) {
     for (std::size_t k = 0; k < ne_; ++k) arm_time_[k] = std::max(arm_time_[k], t0_);
 }
 
-EventStep EventMonitor::end_step(World& w, const Extension* extension) {
+EventStep EventMonitor::end_step(World& w, const Extension* extension) { return end_step_impl(w, extension, {}, {}, {}); }
+
+EventStep EventMonitor::end_step(World& w, std::span<const double> g1, std::span<const double> a0,
+                                 std::span<const double> a1) {
+    if (g1.size() != ne_ || (!a0.empty() && a0.size() != n_) || (!a1.empty() && a1.size() != n_))
+        throw std::invalid_argument("EventMonitor::end_step: " + std::to_string(g1.size()) + " guards and " +
+                                    std::to_string(a0.size()) + ", " + std::to_string(a1.size()) +
+                                    " accelerations given for a system of " + std::to_string(ne_) + " events and " +
+                                    std::to_string(n_) + " coordinates (accelerations may be empty)");
+    return end_step_impl(w, nullptr, g1, a0, a1);
+}
+
+EventStep EventMonitor::end_step_impl(World& w, const Extension* extension, std::span<const double> g1,
+                                      std::span<const double> a0, std::span<const double> a1) {
     EventStep out;
     if (ne_ == 0 || stopped_) return out;
     const double t1 = w.time;
     auto q1 = w.field(kGQ), v1 = w.field(kGV);
-    sys_.event_guards(t1, q1, v1, g_);
+    if (g1.empty()) sys_.event_guards(t1, q1, v1, g_);
+    else std::copy(g1.begin(), g1.end(), g_.begin());
     // resting events: released when the free step left the guard on its armed side, else held
     bool restored = false;
     for (std::size_t k = 0; k < ne_; ++k) {
@@ -84,7 +98,11 @@ EventStep EventMonitor::end_step(World& w, const Extension* extension) {
                 }
         }
     }
-    if (restored) sys_.event_guards(t1, q1, v1, g_);
+    if (restored) {
+        sys_.event_guards(t1, q1, v1, g_);
+        out.moved = true;
+        a1 = {}; // at the state before the hold
+    }
     bool any = false;
     for (std::size_t k = 0; k < ne_; ++k) {
         if (resting_[k]) continue;
@@ -99,8 +117,10 @@ EventStep EventMonitor::end_step(World& w, const Extension* extension) {
     // the crossings, on the integrator's extension of the step or its Hermite arc
     std::optional<HermiteStep> hermite;
     if (!extension) {
-        sys_.accelerations(t0_, q0_, v0_, a0_);
-        sys_.accelerations(t1, q1, v1, a1_);
+        if (a0.empty()) sys_.accelerations(t0_, q0_, v0_, a0_);
+        else std::copy(a0.begin(), a0.end(), a0_.begin());
+        if (a1.empty()) sys_.accelerations(t1, q1, v1, a1_);
+        else std::copy(a1.begin(), a1.end(), a1_.begin());
         hermite.emplace(t0_, t1, q0_, v0_, a0_, q1, v1, a1_);
     }
     auto arc_at = [&](double t, std::span<double> q, std::span<double> v) {
@@ -139,6 +159,7 @@ EventStep EventMonitor::end_step(World& w, const Extension* extension) {
     }
     if (!fired_any) return out; // cannot happen: the earliest crossing is across at its own time
     out.fired = true;
+    out.moved = true;
     std::copy(qe_.begin(), qe_.end(), qp_.begin());
     std::copy(ve_.begin(), ve_.end(), vp_.begin());
     if (!stop) {

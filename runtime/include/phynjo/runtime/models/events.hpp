@@ -72,6 +72,7 @@ struct EventOptions {
 struct EventStep {
     bool fired = false;   ///< the world was moved back to the event time, after the actions
     bool stopped = false; ///< a `stop` event fired: the run ends here
+    bool moved = false;   ///< w's state is no longer the one the integrator left (an event, or a resting event's hold)
 };
 
 /// Watches the events of one run. Use: for each step of the run, `begin_run_step(dt)`; then
@@ -95,6 +96,12 @@ public:
     /// the cubic Hermite arc of the step. Throws ZenoError (see the rules above); the world
     /// is then at the last event.
     EventStep end_step(World& w, const Extension* extension = nullptr);
+    /// end_step on the Hermite arc with what the caller has already computed: `g1` the guards
+    /// at w's state, `a0` and `a1` the accelerations at the step's start and end (empty when
+    /// not known, or when accelerations_energy_guards returned false there: then computed, and
+    /// thrown, as end_step does). The same result, bit for bit, as end_step(w) when they are
+    /// what the system's functions give (run_one with generated code's fused kernels).
+    EventStep end_step(World& w, std::span<const double> g1, std::span<const double> a0, std::span<const double> a1);
 
     [[nodiscard]] const std::vector<EventRecord>& log() const noexcept { return log_; }
     [[nodiscard]] bool stopped() const noexcept { return stopped_; }
@@ -107,6 +114,8 @@ private:
         return sys_.event_directions[k] < 0 ? g > 0 : g < 0;
     }
     void check_zeno(std::size_t k, double t);
+    EventStep end_step_impl(World& w, const Extension* extension, std::span<const double> g1, std::span<const double> a0,
+                            std::span<const double> a1);
 
     LagrangianSystem sys_;
     EventOptions opt_;

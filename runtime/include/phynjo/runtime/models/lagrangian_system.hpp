@@ -41,6 +41,19 @@ struct LagrangianSystem {
     std::function<double(double t, std::span<const double> q, std::span<const double> qdot)> energy;
     std::function<void(std::span<double> q, std::span<double> qdot)> initial_state;
 
+    // Fused kernels of generated code (optional; a hand-made system may leave them empty: the
+    // integrators then use the functions above, with the same bits).
+    /// One step of classical RK4, h long, from (t, q, q') in place, with q'' at (t, q, q') given:
+    /// lagrangian_rk4's operations in its order (generated `rk4_step`).
+    std::function<void(double t, double h, std::span<double> q, std::span<double> qdot, std::span<const double> qddot)>
+        rk4_step;
+    /// q'', E and the event guards at one state, as `accelerations`, `energy`, `event_guards`
+    /// give them; false where `accelerations` would throw (generated
+    /// `accelerations_energy_guards`). What run_one evaluates once per step.
+    std::function<bool(double t, std::span<const double> q, std::span<const double> qdot, std::span<double> qddot,
+                       double& E, std::span<double> g)>
+        accelerations_energy_guards;
+
     // (v2) Constraints (lag-format.md, *Constraints*), file order; none when n_constraints = 0.
     std::size_t n_constraints = 0;
     std::vector<std::string> constraint_names;
