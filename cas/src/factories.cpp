@@ -460,6 +460,11 @@ Expr pi_multiple(Expr x) {
 bool negative_form(Expr x) {
     if (x.kind() == Kind::Number) return detail::num_sign(x) < 0;
     if (x.kind() == Kind::Mul) return detail::num_sign(x->number) < 0;
+    // a sum whose first term (in canonical order) has a negative coefficient: -x has the same
+    // terms in the same order with every sign flipped, so exactly one of x and -x is negative
+    // (sin(b - a) = -sin(a - b), cos(b - a) = cos(a - b), as SymPy writes them: sin and cos of
+    // one argument, which the compiler turns into one sincos call)
+    if (x.kind() == Kind::Add) return detail::num_sign(x->coefs[0]) < 0;
     return false;
 }
 
