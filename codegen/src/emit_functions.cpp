@@ -252,13 +252,10 @@ std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const N
       << sizes("energy", {{"q", n}, {"qdot", n}}) << "    return energy_core(P, t, q.data(), qdot.data());\n}" << glue
       << "\n";
     // rk4_step (phynjo extension): the runtime's lagrangian_rk4 rule, the same operations in
-    // the same order (the same bits), its first stage's q'' given
-    s << "void rk4_step(const Parameters& P, double t, double h, std::span<double> q, std::span<double> qdot,\n"
-      << "              std::span<const double> qddot) {\n"
-      << sizes("rk4_step", {{"q", n}, {"qdot", n}, {"qddot", n}})
-      << "    // the parameters in a local, which no store through q or qdot can change: the compiler\n"
-      << "    // then computes their products once for the three stages\n"
-      << "    const Parameters p = P;\n"
+    // the same order (the same bits), its first stage's q'' given; the stages in a core that
+    // rk4_step_values shares
+    s << "[[maybe_unused]] static inline void rk4_stages(const Parameters& p, double t, double h, double* q, double* qdot,\n"
+      << "                                             const double* qddot) {\n"
       << "    std::array<double, " << n << "> q0, v0, aq, av, k;\n"
       << "    for (std::size_t i = 0; i < " << n << "; ++i) {\n"
       << "        q0[i] = q[i];\n        v0[i] = qdot[i];\n        aq[i] = av[i] = 0;\n        k[i] = qddot[i];\n    }\n"
@@ -270,27 +267,44 @@ std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const N
       << "            } else {\n                q[i] = q0[i] + next * h * kq;\n                qdot[i] = v0[i] + next * h * kv;\n"
       << "            }\n        }\n    };\n";
     auto stage_at = [&](const char* c) {
-        return mc == 0 ? "    accelerations_core(p, t + " + std::string(c) + " * h, q.data(), qdot.data(), k.data());\n"
-                       : "    accelerations(p, t + " + std::string(c) + " * h, q, qdot, k);\n";
+        return mc == 0 ? "    accelerations_core(p, t + " + std::string(c) + " * h, q, qdot, k.data());\n"
+                       : "    accelerations(p, t + " + std::string(c) + " * h, std::span<const double>(q, " + std::to_string(n) +
+                             "), std::span<const double>(qdot, " + std::to_string(n) + "), k);\n";
     };
     s << "    stage(1.0 / 6, 0.5, false);\n" << stage_at("0.5") << "    stage(2.0 / 6, 0.5, false);\n" << stage_at("0.5")
       << "    stage(2.0 / 6, 1.0, false);\n" << stage_at("1.0") << "    stage(1.0 / 6, 0, true);\n}" << glue << "\n";
-    // accelerations_energy_guards (phynjo extension): the three cores at one state
+    // q'', E and the guards at one state: the three cores on a copy of the state, which no
+    // store through E, g or qddot can change (so the compiler sees the same arguments of sin
+    // and cos in the three)
+    s << "[[maybe_unused]] static inline bool values_core(const Parameters& P, double t, const double* q,\n"
+      << "                                              const double* qdot, double* qddot, double& E, double* g) {\n"
+      << "    std::array<double, " << n << "> x, v;\n"
+      << "    std::copy_n(q, " << n << ", x.begin());\n"
+      << "    std::copy_n(qdot, " << n << ", v.begin());\n"
+      << "    E = energy_core(P, t, x.data(), v.data());\n"
+      << "    guards_core(P, t, x.data(), v.data(), g);\n"
+      << "    try {\n"
+      << (mc == 0 ? "        accelerations_core(P, t, x.data(), v.data(), qddot);\n"
+                  : "        accelerations(P, t, x, v, std::span<double>(qddot, " + std::to_string(n) + "));\n")
+      << "    } catch (const phynjo::runtime::Error&) {\n        return false;\n    }\n    return true;\n}" << glue << "\n";
+    s << "void rk4_step(const Parameters& P, double t, double h, std::span<double> q, std::span<double> qdot,\n"
+      << "              std::span<const double> qddot) {\n"
+      << sizes("rk4_step", {{"q", n}, {"qdot", n}, {"qddot", n}})
+      << "    // the parameters in a local, which no store through q or qdot can change: the compiler\n"
+      << "    // then computes their products once for all stages\n"
+      << "    const Parameters p = P;\n"
+      << "    rk4_stages(p, t, h, q.data(), qdot.data(), qddot.data());\n}" << glue << "\n";
     s << "bool accelerations_energy_guards(const Parameters& P, double t, std::span<const double> q,\n"
       << "                                 std::span<const double> qdot, std::span<double> qddot, double& E,\n"
       << "                                 std::span<double> g) {\n"
       << sizes("accelerations_energy_guards", {{"q", n}, {"qdot", n}, {"qddot", n}, {"g", ne}})
-      << "    // the state in locals, which no store through E, g or qddot can change: the compiler\n"
-      << "    // then sees the same arguments of sin and cos in the three cores\n"
-      << "    std::array<double, " << n << "> x, v;\n"
-      << "    std::copy_n(q.begin(), " << n << ", x.begin());\n"
-      << "    std::copy_n(qdot.begin(), " << n << ", v.begin());\n"
-      << "    E = energy_core(P, t, x.data(), v.data());\n"
-      << "    guards_core(P, t, x.data(), v.data(), g.data());\n"
-      << "    try {\n"
-      << (mc == 0 ? "        accelerations_core(P, t, x.data(), v.data(), qddot.data());\n"
-                  : "        accelerations(P, t, x, v, qddot);\n")
-      << "    } catch (const phynjo::runtime::Error&) {\n        return false;\n    }\n    return true;\n}\n\n";
+      << "    return values_core(P, t, q.data(), qdot.data(), qddot.data(), E, g.data());\n}" << glue << "\n";
+    s << "bool rk4_step_values(const Parameters& P, double t, double h, double t1, std::span<double> q,\n"
+      << "                     std::span<double> qdot, std::span<double> qddot, double& E, std::span<double> g) {\n"
+      << sizes("rk4_step_values", {{"q", n}, {"qdot", n}, {"qddot", n}, {"g", ne}})
+      << "    const Parameters p = P;\n"
+      << "    rk4_stages(p, t, h, q.data(), qdot.data(), qddot.data());\n"
+      << "    return values_core(p, t1, q.data(), qdot.data(), qddot.data(), E, g.data());\n}\n\n";
     // events (contract v2): apply_event one case per event, every right side read from the
     // state before any is stored
     s << "void apply_event(const Parameters& P, std::size_t k, double t, std::span<double> q, std::span<double> qdot) {\n"

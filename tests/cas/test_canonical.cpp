@@ -33,6 +33,13 @@ TEST_CASE("canonicalizing factories", "[cas][canonical]") {
     CHECK(sin(-x) == -sin(x));
     CHECK(cos(-x) == cos(x));
     CHECK(tan(-x) == -tan(x));
+    // a difference and its negative reach one argument (bug caught: sin(y - x) and cos(x - y)
+    // left as two arguments — no sincos for the double pendulum; or a sign lost in the move)
+    CHECK(sin(y - x) == -sin(x - y));
+    CHECK(cos(y - x) == cos(x - y));
+    CHECK(tan(y - x) == -tan(x - y));
+    CHECK(sin(2 - x) == -sin(x - 2));
+    CHECK(cos(2 * y - 3 * x + 1) == cos(3 * x - 2 * y - 1));
     CHECK(sin(pi()) == Expr(0));
     CHECK(cos(pi()) == Expr(-1));
     CHECK(sin(pi() / 6) == rational(1, 2));

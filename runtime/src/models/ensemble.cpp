@@ -199,53 +199,50 @@ RunSummary run_one(const LagrangianSystem& sys, std::span<const std::pair<std::s
             };
             const EventMonitor::Extension dense = [&](double t, std::span<double> q, std::span<double> v) { dp.dense(t, q, v); };
             drive(step_to, &dense);
-        } else if (settings.integrator == "rk4" && sys.n_constraints == 0 && sys.rk4_step && sys.accelerations_energy_guards) {
-            // Generated code's fused kernels: per step one rk4_step and one evaluation of q'', E
-            // and the guards at its end, whose q'' is the next step's first stage and whose
-            // guards the monitor reads (a run's sines and cosines computed once per state).
-            // The same bits as the workflow below: the same functions' arithmetic, in the same
-            // order, the exceptions thrown where they would be (tests/runtime/test_ensemble.cpp).
+        } else if (settings.integrator == "rk4" && sys.n_constraints == 0 && sys.rk4_step_values &&
+                   sys.accelerations_energy_guards) {
+            // Generated code's fused kernels: per step one call, rk4_step_values — the RK4 step,
+            // then q'', E and the guards at its end, whose q'' is the next step's first stage and
+            // whose guards the monitor reads (a state's sines and cosines computed once). The
+            // same bits as the workflow below: the same functions' arithmetic in the same order,
+            // the exceptions thrown where they would be (tests/runtime/test_ensemble.cpp).
             const std::size_t n = sys.dof;
-            std::vector<double> a(n), a_end(n), g(sys.n_events);
-            const auto q = w.field(kGQ), v = w.field(kGV);
+            std::vector<double> a(n), a0(n), g(sys.n_events);
+            const std::span<double> q = w.field(kGQ), v = w.field(kGV);
             double e = 0;
-            bool ok = sys.accelerations_energy_guards(w.time, q, v, a, e, g);
+            bool ok = sys.accelerations_energy_guards(w.time, q, v, a, e, g); // false: accelerations throws there
             for (long k = 1; k <= total; ++k) {
                 const double target = k <= steps ? static_cast<double>(k) * settings.dt : settings.t_end;
                 const double h = k <= steps ? settings.dt : last;
-                // one step from w.time: q'' there known (or thrown, as accelerations would)
-                auto step = [&](double length) {
-                    if (!ok) sys.accelerations(w.time + 0.0 * length, q, v, a);
-                    sys.rk4_step(w.time, length, q, v, a);
-                    w.time = target;
-                };
                 if (!with_events) {
-                    step(h);
-                    ok = sys.accelerations_energy_guards(w.time, q, v, a, e, g);
-                } else {
-                    monitor.begin_run_step(h);
-                    bool whole = true, stopped = false;
-                    while (w.time < target - 1e-12 * h) {
-                        monitor.begin_step(w);
-                        step(whole ? h : target - w.time);
-                        const bool end_ok = sys.accelerations_energy_guards(w.time, q, v, a_end, e, g);
-                        const EventStep es = monitor.end_step(w, g, a, end_ok ? std::span<const double>(a_end)
-                                                                              : std::span<const double>());
-                        a.swap(a_end);
-                        ok = end_ok;
-                        if (es.moved) ok = sys.accelerations_energy_guards(w.time, q, v, a, e, g);
-                        if (es.stopped) {
-                            stopped = true;
-                            break;
-                        }
-                        whole = whole && !es.fired;
-                    }
-                    if (stopped) {
-                        after_step(k, true, e);
+                    if (!ok) sys.accelerations(w.time + 0.0 * h, q, v, a);
+                    ok = sys.rk4_step_values(w.time, h, target, q, v, a, e, g);
+                    w.time = target;
+                    after_step(k, k == total, e);
+                    continue;
+                }
+                monitor.begin_run_step(h);
+                bool whole = true, stopped = false;
+                while (w.time < target - 1e-12 * h) {
+                    monitor.begin_step(w);
+                    const double length = whole ? h : target - w.time;
+                    if (!ok) sys.accelerations(w.time + 0.0 * length, q, v, a);
+                    std::copy(a.begin(), a.end(), a0.begin());
+                    ok = sys.rk4_step_values(w.time, length, target, q, v, a, e, g);
+                    w.time = target;
+                    const EventStep es = monitor.end_step(w, g, a0, ok ? std::span<const double>(a) : std::span<const double>());
+                    if (es.moved) ok = sys.accelerations_energy_guards(w.time, q, v, a, e, g);
+                    if (es.stopped) {
+                        stopped = true;
                         break;
                     }
-                    w.time = target;
+                    whole = whole && !es.fired;
                 }
+                if (stopped) {
+                    after_step(k, true, e);
+                    break;
+                }
+                w.time = target;
                 after_step(k, k == total, e);
             }
         } else {

@@ -34,20 +34,19 @@ EventMonitor::EventMonitor(LagrangianSystem system, EventOptions options) : sys_
     for (auto* v : {&g_, &g_left_, &arm_time_}) v->assign(ne_, 0.0);
     for (auto* v : {&armed_, &resting_, &fired_}) v->assign(ne_, 0);
     held_by_.assign(n_, ne_);
+    for (std::size_t k = 0; k < ne_; ++k) side_sign_.push_back(sys_.event_directions[k] < 0 ? 1.0 : -1.0);
     recent_.resize(ne_);
-}
-
-void EventMonitor::begin_run_step(double dt) {
-    run_dt_ = dt;
-    events_this_run_step_ = 0;
 }
 
 void EventMonitor::begin_step(const World& w) {
     if (ne_ == 0) return; // nothing to watch: no copy in the step
     t0_ = w.time;
-    const auto q = w.field(kGQ), v = w.field(kGV);
-    std::copy(q.begin(), q.end(), q0_.begin());
-    std::copy(v.begin(), v.end(), v0_.begin());
+    const double *q = w.field(kGQ).data(), *v = w.field(kGV).data();
+    double *q0 = q0_.data(), *v0 = v0_.data();
+    for (std::size_t i = 0; i < n_; ++i) {
+        q0[i] = q[i];
+        v0[i] = v[i];
+    }
     if (!started_) {
         started_ = true;
         sys_.event_guards(t0_, q0_, v0_, g_);
@@ -56,7 +55,8 @@ void EventMonitor::begin_step(const World& w) {
             arm_time_[k] = t0_;
         }
     }
-    for (std::size_t k = 0; k < ne_; ++k) arm_time_[k] = std::max(arm_time_[k], t0_);
+    // (an event armed before this step is armed since its start: end_step_impl brackets a
+    // crossing from max(arm_time_, t0_))
 }
 
 EventStep EventMonitor::end_step(World& w, const Extension* extension) { return end_step_impl(w, extension, {}, {}, {}); }
@@ -68,6 +68,24 @@ EventStep EventMonitor::end_step(World& w, std::span<const double> g1, std::span
                                     std::to_string(a0.size()) + ", " + std::to_string(a1.size()) +
                                     " accelerations given for a system of " + std::to_string(ne_) + " events and " +
                                     std::to_string(n_) + " coordinates (accelerations may be empty)");
+    if (ne_ == 0 || stopped_) return {};
+    if (resting_count_ == 0) {
+        // the common step: none resting, none crossed — only events back on their armed side
+        // re-armed (what end_step_impl does then, without its copies)
+        const double* g = g1.data();
+        const double* side_sign = side_sign_.data();
+        unsigned char* armed = armed_.data();
+        bool any = false;
+        for (std::size_t k = 0; k < ne_; ++k) {
+            const bool side = side_sign[k] * g[k] > 0; // armed_side(k, g[k])
+            if (armed[k]) any = any || !side;
+            else if (side) {
+                armed[k] = 1;
+                arm_time_[k] = w.time;
+            }
+        }
+        if (!any) return {};
+    }
     return end_step_impl(w, nullptr, g1, a0, a1);
 }
 
@@ -85,6 +103,7 @@ EventStep EventMonitor::end_step_impl(World& w, const Extension* extension, std:
         if (!resting_[k]) continue;
         if (armed_side(k, g_[k])) {
             resting_[k] = 0;
+            --resting_count_;
             armed_[k] = 1;
             arm_time_[k] = t1;
             for (std::size_t i = 0; i < n_; ++i)
@@ -135,7 +154,7 @@ EventStep EventMonitor::end_step_impl(World& w, const Extension* extension, std:
             sys_.event_guards(t, qe_, ve_, g_left_);
             return g_left_[k];
         };
-        const double left = std::min(arm_time_[k], t1);
+        const double left = std::min(std::max(arm_time_[k], t0_), t1);
         double gl = guard(left);
         if (!armed_side(k, gl) || left >= t1) {
             // the arc disagrees with what armed it (within its error): the crossing is at left
@@ -174,6 +193,7 @@ EventStep EventMonitor::end_step_impl(World& w, const Extension* extension, std:
                     vp_[i] = vk_[i];
                     if (opt_.rest_speed > 0 && std::fabs(vp_[i]) < opt_.rest_speed) {
                         vp_[i] = 0;
+                        resting_count_ += resting_[k] ? 0 : 1;
                         resting_[k] = 1;
                         held_by_[i] = k;
                     }

@@ -85,7 +85,10 @@ public:
     explicit EventMonitor(LagrangianSystem system, EventOptions options = {});
 
     /// A step of the run of length `dt` begins: the Zeno count starts again.
-    void begin_run_step(double dt);
+    void begin_run_step(double dt) noexcept {
+        run_dt_ = dt;
+        events_this_run_step_ = 0;
+    }
     /// Before the integrator advances `w`: remembers its time and state. The first call arms
     /// the events whose guards are on their armed side.
     void begin_step(const World& w);
@@ -123,6 +126,8 @@ private:
     bool started_ = false, stopped_ = false;
     double run_dt_ = 0, t0_ = 0;
     std::size_t events_this_run_step_ = 0;
+    std::size_t resting_count_ = 0; ///< events resting now
+    std::vector<double> side_sign_;  ///< per event: +1 when its armed side is g > 0, else −1
     std::vector<double> q0_, v0_, a0_, a1_, g_, g_left_, qe_, ve_, qk_, vk_, qp_, vp_, ap_;
     std::vector<unsigned char> armed_, resting_, fired_;
     std::vector<std::size_t> held_by_; ///< per coordinate: the resting event holding it, or ne_

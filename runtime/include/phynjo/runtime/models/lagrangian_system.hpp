@@ -53,6 +53,11 @@ struct LagrangianSystem {
     std::function<bool(double t, std::span<const double> q, std::span<const double> qdot, std::span<double> qddot,
                        double& E, std::span<double> g)>
         accelerations_energy_guards;
+    /// rk4_step from (t, q, q') with q'' there in `qddot`, then accelerations_energy_guards at
+    /// (t1, q, q') into qddot, E and g (generated `rk4_step_values`): a sweep's step in one call.
+    std::function<bool(double t, double h, double t1, std::span<double> q, std::span<double> qdot, std::span<double> qddot,
+                       double& E, std::span<double> g)>
+        rk4_step_values;
 
     // (v2) Constraints (lag-format.md, *Constraints*), file order; none when n_constraints = 0.
     std::size_t n_constraints = 0;
