@@ -51,4 +51,8 @@ function(phynjo_add_model)
   # them next to nothing (nlink_cart(40): 23.2 -> 20.2 s of build on two cores; nlink_cart(10)'s
   # functions within +-3% at run time; bench/RESULTS.md)
   target_compile_options(${PHYNJO_TARGET} PRIVATE $<$<CXX_COMPILER_ID:GNU>:-fno-tree-slp-vectorize>)
+  # every operation rounded once, whatever -march: the fused kernels (rk4_step,
+  # accelerations_energy_guards) give the bits of the functions they fuse, which a multiply-add
+  # contracted in one of them and not in the other would break (docs/generated-code.md)
+  target_compile_options(${PHYNJO_TARGET} PRIVATE $<$<CXX_COMPILER_ID:GNU,Clang>:-ffp-contract=off>)
 endfunction()
