@@ -4,7 +4,9 @@
 // symplectic. Reference: W. Kutta, Z. Math. Phys. 46, 435 (1901); Hairer, Nørsett, Wanner,
 // Solving Ordinary Differential Equations I, §II.1. Constrained models: RK4 on the index-1
 // system (q'' from the KKT solve), then a projection onto the constraints (Hairer, Lubich,
-// Wanner, Geometric Numerical Integration, §IV.4).
+// Wanner, Geometric Numerical Integration, §IV.4). A system with generated code's fused
+// kernel `rk4_step` takes its step from it: the same operations in the same order, with the
+// stages' accelerations inlined (tests/codegen/test_kernels.cpp compares the two, bit for bit).
 #include "phynjo/runtime/integrators/lagrangian_rk4.hpp"
 
 #include <vector>
