@@ -164,15 +164,19 @@ RunSummary run_one(const LagrangianSystem& sys, std::span<const std::pair<std::s
             *trajectory += '\n';
         };
         if (trajectory) row(e0);
-        // after each step: the state finite, the energy error (E there, when known)
-        auto after_step = [&](long k, bool last_step, std::optional<double> known = std::nullopt) {
-            for (double x : w.field(kGQ))
-                if (!std::isfinite(x)) throw Error("the state is not finite");
-            for (double x : w.field(kGV))
-                if (!std::isfinite(x)) throw Error("the state is not finite");
-            const double e = known ? *known : sys.energy(w.time, w.field(kGQ), w.field(kGV));
+        // after each step: the state finite, the energy error (E there, from the step's kernel
+        // or from `energy`: the same bits)
+        const double* const wq = w.field(kGQ).data();
+        const double* const wv = w.field(kGV).data();
+        const std::size_t dof = sys.dof;
+        auto record = [&](long k, bool last_step, double e) {
+            for (std::size_t i = 0; i < dof; ++i)
+                if (!std::isfinite(wq[i]) || !std::isfinite(wv[i])) throw Error("the state is not finite");
             r.max_energy_error = std::max(r.max_energy_error, std::abs(e - e0) / scale);
-            if (trajectory && (k % every == 0 || last_step)) row(e);
+            if (trajectory && (last_step || k % every == 0)) row(e);
+        };
+        auto after_step = [&](long k, bool last_step) {
+            record(k, last_step, sys.energy(w.time, w.field(kGQ), w.field(kGV)));
         };
         auto drive = [&](auto&& step_to, const EventMonitor::Extension* extension) {
             for (long k = 1; k <= total; ++k) {
@@ -218,7 +222,7 @@ RunSummary run_one(const LagrangianSystem& sys, std::span<const std::pair<std::s
                     if (!ok) sys.accelerations(w.time + 0.0 * h, q, v, a);
                     ok = sys.rk4_step_values(w.time, h, target, q, v, a, e, g);
                     w.time = target;
-                    after_step(k, k == total, e);
+                    record(k, k == total, e);
                     continue;
                 }
                 monitor.begin_run_step(h);
@@ -239,11 +243,11 @@ RunSummary run_one(const LagrangianSystem& sys, std::span<const std::pair<std::s
                     whole = whole && !es.fired;
                 }
                 if (stopped) {
-                    after_step(k, true, e);
+                    record(k, true, e);
                     break;
                 }
                 w.time = target;
-                after_step(k, k == total, e);
+                record(k, k == total, e);
             }
         } else {
             Stepper stepper(settings.integrator == "rk4"        ? lagrangian_rk4(sys, w.layout_ptr(), settings.projection)

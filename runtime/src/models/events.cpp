@@ -38,55 +38,22 @@ EventMonitor::EventMonitor(LagrangianSystem system, EventOptions options) : sys_
     recent_.resize(ne_);
 }
 
-void EventMonitor::begin_step(const World& w) {
-    if (ne_ == 0) return; // nothing to watch: no copy in the step
-    t0_ = w.time;
-    const double *q = w.field(kGQ).data(), *v = w.field(kGV).data();
-    double *q0 = q0_.data(), *v0 = v0_.data();
-    for (std::size_t i = 0; i < n_; ++i) {
-        q0[i] = q[i];
-        v0[i] = v[i];
+void EventMonitor::arm_first() {
+    started_ = true;
+    sys_.event_guards(t0_, q0_, v0_, g_);
+    for (std::size_t k = 0; k < ne_; ++k) {
+        armed_[k] = armed_side(k, g_[k]) ? 1 : 0;
+        arm_time_[k] = t0_;
     }
-    if (!started_) {
-        started_ = true;
-        sys_.event_guards(t0_, q0_, v0_, g_);
-        for (std::size_t k = 0; k < ne_; ++k) {
-            armed_[k] = armed_side(k, g_[k]) ? 1 : 0;
-            arm_time_[k] = t0_;
-        }
-    }
-    // (an event armed before this step is armed since its start: end_step_impl brackets a
-    // crossing from max(arm_time_, t0_))
 }
 
 EventStep EventMonitor::end_step(World& w, const Extension* extension) { return end_step_impl(w, extension, {}, {}, {}); }
 
-EventStep EventMonitor::end_step(World& w, std::span<const double> g1, std::span<const double> a0,
-                                 std::span<const double> a1) {
-    if (g1.size() != ne_ || (!a0.empty() && a0.size() != n_) || (!a1.empty() && a1.size() != n_))
-        throw std::invalid_argument("EventMonitor::end_step: " + std::to_string(g1.size()) + " guards and " +
-                                    std::to_string(a0.size()) + ", " + std::to_string(a1.size()) +
-                                    " accelerations given for a system of " + std::to_string(ne_) + " events and " +
-                                    std::to_string(n_) + " coordinates (accelerations may be empty)");
-    if (ne_ == 0 || stopped_) return {};
-    if (resting_count_ == 0) {
-        // the common step: none resting, none crossed — only events back on their armed side
-        // re-armed (what end_step_impl does then, without its copies)
-        const double* g = g1.data();
-        const double* side_sign = side_sign_.data();
-        unsigned char* armed = armed_.data();
-        bool any = false;
-        for (std::size_t k = 0; k < ne_; ++k) {
-            const bool side = side_sign[k] * g[k] > 0; // armed_side(k, g[k])
-            if (armed[k]) any = any || !side;
-            else if (side) {
-                armed[k] = 1;
-                arm_time_[k] = w.time;
-            }
-        }
-        if (!any) return {};
-    }
-    return end_step_impl(w, nullptr, g1, a0, a1);
+void EventMonitor::wrong_sizes(std::size_t g, std::size_t a0, std::size_t a1) const {
+    throw std::invalid_argument("EventMonitor::end_step: " + std::to_string(g) + " guards and " + std::to_string(a0) +
+                                ", " + std::to_string(a1) + " accelerations given for a system of " +
+                                std::to_string(ne_) + " events and " + std::to_string(n_) +
+                                " coordinates (accelerations may be empty)");
 }
 
 EventStep EventMonitor::end_step_impl(World& w, const Extension* extension, std::span<const double> g1,

@@ -91,7 +91,19 @@ public:
     }
     /// Before the integrator advances `w`: remembers its time and state. The first call arms
     /// the events whose guards are on their armed side.
-    void begin_step(const World& w);
+    void begin_step(const World& w) {
+        if (ne_ == 0) return; // nothing to watch: no copy in the step
+        t0_ = w.time;
+        const double *q = w.field(kGQ).data(), *v = w.field(kGV).data();
+        double *q0 = q0_.data(), *v0 = v0_.data();
+        for (std::size_t i = 0; i < n_; ++i) {
+            q0[i] = q[i];
+            v0[i] = v[i];
+        }
+        if (!started_) arm_first();
+        // (an event armed before this step is armed since its start: end_step_impl brackets a
+        // crossing from max(arm_time_, t0_))
+    }
     /// An integrator's own continuous extension of the step just taken: (q, q') at t.
     using Extension = std::function<void(double t, std::span<double> q, std::span<double> qdot)>;
     /// After the integrator advanced `w` (w.time its new time): locates, applies, logs.
@@ -104,7 +116,29 @@ public:
     /// not known, or when accelerations_energy_guards returned false there: then computed, and
     /// thrown, as end_step does). The same result, bit for bit, as end_step(w) when they are
     /// what the system's functions give (run_one with generated code's fused kernels).
-    EventStep end_step(World& w, std::span<const double> g1, std::span<const double> a0, std::span<const double> a1);
+    EventStep end_step(World& w, std::span<const double> g1, std::span<const double> a0, std::span<const double> a1) {
+        if (g1.size() != ne_ || (!a0.empty() && a0.size() != n_) || (!a1.empty() && a1.size() != n_))
+            wrong_sizes(g1.size(), a0.size(), a1.size());
+        if (ne_ == 0 || stopped_) return {};
+        if (resting_count_ == 0) {
+            // the common step: none resting, none crossed — only events back on their armed side
+            // re-armed (what end_step_impl does then, without its copies)
+            const double* g = g1.data();
+            const double* side_sign = side_sign_.data();
+            unsigned char* armed = armed_.data();
+            bool any = false;
+            for (std::size_t k = 0; k < ne_; ++k) {
+                const bool side = side_sign[k] * g[k] > 0; // armed_side(k, g[k])
+                if (armed[k]) any = any || !side;
+                else if (side) {
+                    armed[k] = 1;
+                    arm_time_[k] = w.time;
+                }
+            }
+            if (!any) return {};
+        }
+        return end_step_impl(w, nullptr, g1, a0, a1);
+    }
 
     [[nodiscard]] const std::vector<EventRecord>& log() const noexcept { return log_; }
     [[nodiscard]] bool stopped() const noexcept { return stopped_; }
@@ -117,6 +151,8 @@ private:
         return sys_.event_directions[k] < 0 ? g > 0 : g < 0;
     }
     void check_zeno(std::size_t k, double t);
+    void arm_first();
+    [[noreturn]] void wrong_sizes(std::size_t g, std::size_t a0, std::size_t a1) const;
     EventStep end_step_impl(World& w, const Extension* extension, std::span<const double> g1, std::span<const double> a0,
                             std::span<const double> a1);
 
