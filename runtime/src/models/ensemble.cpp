@@ -209,7 +209,7 @@ RunSummary run_one(const LagrangianSystem& sys, std::span<const std::pair<std::s
             // then q'', E and the guards at its end, whose q'' is the next step's first stage and
             // whose guards the monitor reads (a state's sines and cosines computed once). The
             // same bits as the workflow below: the same functions' arithmetic in the same order,
-            // the exceptions thrown where they would be (tests/runtime/test_ensemble.cpp).
+            // the exceptions thrown where they would be (tests/codegen/test_kernels.cpp).
             const std::size_t n = sys.dof;
             std::vector<double> a(n), a0(n), g(sys.n_events);
             const std::span<double> q = w.field(kGQ), v = w.field(kGV);
