@@ -89,16 +89,7 @@ EventStep EventMonitor::end_step_impl(World& w, const Extension* extension, std:
         out.moved = true;
         a1 = {}; // at the state before the hold
     }
-    bool any = false;
-    for (std::size_t k = 0; k < ne_; ++k) {
-        if (resting_[k]) continue;
-        if (armed_[k]) any = any || !armed_side(k, g_[k]);
-        else if (armed_side(k, g_[k])) {
-            armed_[k] = 1; // back on its armed side: watch it from here
-            arm_time_[k] = t1;
-        }
-    }
-    if (!any) return out;
+    if (!rearm(g_.data(), t1)) return out;
 
     // the crossings, on the integrator's extension of the step or its Hermite arc
     std::optional<HermiteStep> hermite;

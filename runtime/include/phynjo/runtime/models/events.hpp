@@ -120,23 +120,9 @@ public:
         if (g1.size() != ne_ || (!a0.empty() && a0.size() != n_) || (!a1.empty() && a1.size() != n_))
             wrong_sizes(g1.size(), a0.size(), a1.size());
         if (ne_ == 0 || stopped_) return {};
-        if (resting_count_ == 0) {
-            // the common step: none resting, none crossed — only events back on their armed side
-            // re-armed (what end_step_impl does then, without its copies)
-            const double* g = g1.data();
-            const double* side_sign = side_sign_.data();
-            unsigned char* armed = armed_.data();
-            bool any = false;
-            for (std::size_t k = 0; k < ne_; ++k) {
-                const bool side = side_sign[k] * g[k] > 0; // armed_side(k, g[k])
-                if (armed[k]) any = any || !side;
-                else if (side) {
-                    armed[k] = 1;
-                    arm_time_[k] = w.time;
-                }
-            }
-            if (!any) return {};
-        }
+        // the common step: none resting, none crossed — only events back on their armed side
+        // re-armed (what end_step_impl does first, without its copies)
+        if (resting_count_ == 0 && !rearm(g1.data(), w.time)) return {};
         return end_step_impl(w, nullptr, g1, a0, a1);
     }
 
@@ -147,8 +133,22 @@ public:
     [[nodiscard]] const LagrangianSystem& system() const noexcept { return sys_; }
 
 private:
-    [[nodiscard]] bool armed_side(std::size_t k, double g) const noexcept {
-        return sys_.event_directions[k] < 0 ? g > 0 : g < 0;
+    /// Is guard value g on event k's armed side (g > 0 for a falling event, g < 0 for a rising one)?
+    [[nodiscard]] bool armed_side(std::size_t k, double g) const noexcept { return side_sign_[k] * g > 0; }
+    /// Re-arms each event not resting whose guard `g` (at time t) is back on its armed side;
+    /// true when an armed one is off it (a crossing to locate).
+    bool rearm(const double* g, double t) noexcept {
+        bool any = false;
+        for (std::size_t k = 0; k < ne_; ++k) {
+            if (resting_[k]) continue;
+            const bool side = armed_side(k, g[k]);
+            if (armed_[k]) any = any || !side;
+            else if (side) {
+                armed_[k] = 1; // back on its armed side: watch it from here
+                arm_time_[k] = t;
+            }
+        }
+        return any;
     }
     void check_zeno(std::size_t k, double t);
     void arm_first();
@@ -163,7 +163,7 @@ private:
     double run_dt_ = 0, t0_ = 0;
     std::size_t events_this_run_step_ = 0;
     std::size_t resting_count_ = 0; ///< events resting now
-    std::vector<double> side_sign_;  ///< per event: +1 when its armed side is g > 0, else −1
+    std::vector<double> side_sign_;  ///< per event: +1 when its armed side is g > 0, else −1 (event_directions)
     std::vector<double> q0_, v0_, a0_, a1_, g_, g_left_, qe_, ve_, qk_, vk_, qp_, vp_, ap_;
     std::vector<unsigned char> armed_, resting_, fired_;
     std::vector<std::size_t> held_by_; ///< per coordinate: the resting event holding it, or ne_
