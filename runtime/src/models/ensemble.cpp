@@ -134,6 +134,122 @@ void SweepPlan::values(std::size_t run, std::span<double> out) const {
     }
 }
 
+namespace {
+
+/// One kernel call a run asks for: rk4_step_values(t, h, t1, …) on the run's state.
+struct KernelCall {
+    double t, h, t1;
+};
+
+/// How a run's steps fall: `steps` whole steps of `dt`, then a last one of `last` when it
+/// is not negligible (`total` steps in all).
+struct StepPlan {
+    long steps;
+    double last;
+    long total;
+    double dt, t_end;
+};
+
+/// run_one's path through generated code's fused kernels, one kernel call at a time: next()
+/// says which call the run needs (or that it is over), done() takes its result — so that the
+/// caller makes the calls, alone or (later) with other runs' in the lanes of one call. The
+/// state (q, q', the q'' at its start, E, the guards) is the run's own; the event monitor and
+/// `record` (after each whole step: the finite check, the energy error, a trajectory row) are
+/// run_one's. Exceptions leave next() and done() where run_one's loop threw them.
+template <class Record>
+class KernelRun {
+public:
+    KernelRun(const LagrangianSystem& sys, World& w, EventMonitor& monitor, StepPlan plan, Record& record)
+        : sys_(sys), w_(w), monitor_(monitor), plan_(plan), record_(record), q_(w.field(kGQ)), v_(w.field(kGV)),
+          a_(sys.dof), a0_(sys.dof), g_(sys.n_events), with_events_(sys.n_events > 0) {
+        ok_ = sys.accelerations_energy_guards(w.time, q_, v_, a_, e_, g_); // false: accelerations throws there
+    }
+    /// The next call, or null when the run is over (finished or stopped).
+    const KernelCall* next() {
+        for (;;) switch (phase_) {
+            case Phase::step:
+                if (k_ > plan_.total) {
+                    phase_ = Phase::over;
+                    return nullptr;
+                }
+                target_ = k_ <= plan_.steps ? static_cast<double>(k_) * plan_.dt : plan_.t_end;
+                h_ = k_ <= plan_.steps ? plan_.dt : plan_.last;
+                if (!with_events_) {
+                    if (!ok_) sys_.accelerations(w_.time + 0.0 * h_, q_, v_, a_);
+                    call_ = {w_.time, h_, target_};
+                    phase_ = Phase::plain_call;
+                    return &call_;
+                }
+                monitor_.begin_run_step(h_);
+                whole_ = true;
+                phase_ = Phase::substep;
+                continue;
+            case Phase::substep: {
+                if (!(w_.time < target_ - 1e-12 * h_)) { // the run step is complete
+                    w_.time = target_;
+                    record_(k_, k_ == plan_.total, e_);
+                    ++k_;
+                    phase_ = Phase::step;
+                    continue;
+                }
+                monitor_.begin_step(w_);
+                const double length = whole_ ? h_ : target_ - w_.time;
+                if (!ok_) sys_.accelerations(w_.time + 0.0 * length, q_, v_, a_);
+                std::copy(a_.begin(), a_.end(), a0_.begin());
+                call_ = {w_.time, length, target_};
+                phase_ = Phase::event_call;
+                return &call_;
+            }
+            case Phase::plain_call:
+            case Phase::event_call:
+            case Phase::over: return nullptr;
+            }
+    }
+    /// After the call next() asked for: `ok` what it returned.
+    void done(bool ok) {
+        ok_ = ok;
+        w_.time = target_;
+        if (phase_ == Phase::plain_call) {
+            record_(k_, k_ == plan_.total, e_);
+            ++k_;
+            phase_ = Phase::step;
+            return;
+        }
+        const EventStep es = monitor_.end_step(w_, g_, a0_, ok_ ? std::span<const double>(a_) : std::span<const double>());
+        if (es.moved) ok_ = sys_.accelerations_energy_guards(w_.time, q_, v_, a_, e_, g_);
+        if (es.stopped) {
+            record_(k_, true, e_);
+            phase_ = Phase::over;
+            return;
+        }
+        whole_ = whole_ && !es.fired;
+        phase_ = Phase::substep;
+    }
+    std::span<double> q() noexcept { return q_; }
+    std::span<double> qdot() noexcept { return v_; }
+    std::span<double> qddot() noexcept { return a_; }
+    double& energy() noexcept { return e_; }
+    std::span<double> guards() noexcept { return g_; }
+
+private:
+    enum class Phase { step, substep, plain_call, event_call, over };
+    const LagrangianSystem& sys_;
+    World& w_;
+    EventMonitor& monitor_;
+    StepPlan plan_;
+    Record& record_;
+    std::span<double> q_, v_;
+    std::vector<double> a_, a0_, g_;
+    double e_ = 0;
+    bool ok_ = true, with_events_, whole_ = true;
+    Phase phase_ = Phase::step;
+    long k_ = 1;
+    double target_ = 0, h_ = 0;
+    KernelCall call_{};
+};
+
+} // namespace
+
 RunSummary run_one(const LagrangianSystem& sys, std::span<const std::pair<std::size_t, double>> q0,
                    std::span<const std::pair<std::size_t, double>> v0, const RunSettings& settings,
                    std::string* trajectory) {
@@ -210,45 +326,9 @@ RunSummary run_one(const LagrangianSystem& sys, std::span<const std::pair<std::s
             // whose guards the monitor reads (a state's sines and cosines computed once). The
             // same bits as the workflow below: the same functions' arithmetic in the same order,
             // the exceptions thrown where they would be (tests/codegen/test_kernels.cpp).
-            const std::size_t n = sys.dof;
-            std::vector<double> a(n), a0(n), g(sys.n_events);
-            const std::span<double> q = w.field(kGQ), v = w.field(kGV);
-            double e = 0;
-            bool ok = sys.accelerations_energy_guards(w.time, q, v, a, e, g); // false: accelerations throws there
-            for (long k = 1; k <= total; ++k) {
-                const double target = k <= steps ? static_cast<double>(k) * settings.dt : settings.t_end;
-                const double h = k <= steps ? settings.dt : last;
-                if (!with_events) {
-                    if (!ok) sys.accelerations(w.time + 0.0 * h, q, v, a);
-                    ok = sys.rk4_step_values(w.time, h, target, q, v, a, e, g);
-                    w.time = target;
-                    record(k, k == total, e);
-                    continue;
-                }
-                monitor.begin_run_step(h);
-                bool whole = true, stopped = false;
-                while (w.time < target - 1e-12 * h) {
-                    monitor.begin_step(w);
-                    const double length = whole ? h : target - w.time;
-                    if (!ok) sys.accelerations(w.time + 0.0 * length, q, v, a);
-                    std::copy(a.begin(), a.end(), a0.begin());
-                    ok = sys.rk4_step_values(w.time, length, target, q, v, a, e, g);
-                    w.time = target;
-                    const EventStep es = monitor.end_step(w, g, a0, ok ? std::span<const double>(a) : std::span<const double>());
-                    if (es.moved) ok = sys.accelerations_energy_guards(w.time, q, v, a, e, g);
-                    if (es.stopped) {
-                        stopped = true;
-                        break;
-                    }
-                    whole = whole && !es.fired;
-                }
-                if (stopped) {
-                    record(k, true, e);
-                    break;
-                }
-                w.time = target;
-                record(k, k == total, e);
-            }
+            KernelRun run(sys, w, monitor, {steps, last, total, settings.dt, settings.t_end}, record);
+            while (const KernelCall* c = run.next())
+                run.done(sys.rk4_step_values(c->t, c->h, c->t1, run.q(), run.qdot(), run.qddot(), run.energy(), run.guards()));
         } else {
             Stepper stepper(settings.integrator == "rk4"        ? lagrangian_rk4(sys, w.layout_ptr(), settings.projection)
                             : settings.integrator == "midpoint" ? lagrangian_midpoint(sys, w.layout_ptr(), settings.projection)
