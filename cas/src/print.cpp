@@ -162,14 +162,17 @@ private:
         const Function f = static_cast<Function>(x->sub);
         if (f == Function::Atan2) { // atan2(y, x)
             const Out y = print(x.args()[0]), xx = print(x.args()[1]);
-            if (mode_ == Mode::Cpp) return {"std::atan2(" + y.s + ", " + xx.s + ")", Prec::Atom};
+            if (mode_ == Mode::Cpp) return {math() + "atan2(" + y.s + ", " + xx.s + ")", Prec::Atom};
             if (mode_ == Mode::Latex) return {latex_function(f) + "{\\left(" + y.s + ", " + xx.s + " \\right)}", Prec::Atom};
             return {"atan2(" + y.s + ", " + xx.s + ")", Prec::Atom};
         }
         Out a = print(x.args()[0]);
         if (mode_ == Mode::Cpp) {
-            if (f == Function::Sign) return {"(" + a.s + " > 0 ? 1.0 : " + a.s + " < 0 ? -1.0 : 0.0)", Prec::Atom};
-            return {"std::" + std::string(f == Function::Abs ? "fabs" : function_name(f)) + "(" + a.s + ")", Prec::Atom};
+            if (f == Function::Sign) {
+                if (math() != "std::") return {math() + "sign(" + a.s + ")", Prec::Atom};
+                return {"(" + a.s + " > 0 ? 1.0 : " + a.s + " < 0 ? -1.0 : 0.0)", Prec::Atom};
+            }
+            return {math() + std::string(f == Function::Abs ? "fabs" : function_name(f)) + "(" + a.s + ")", Prec::Atom};
         }
         if (mode_ == Mode::Latex) {
             if (f == Function::Exp) return {"e^{" + a.s + "}", Prec::Pow};
@@ -183,7 +186,7 @@ private:
     Out power(Expr b, Expr e) {
         if (e == rational(1, 2)) {
             Out a = print(b);
-            if (mode_ == Mode::Cpp) return {"std::sqrt(" + a.s + ")", Prec::Atom};
+            if (mode_ == Mode::Cpp) return {math() + "sqrt(" + a.s + ")", Prec::Atom};
             if (mode_ == Mode::Latex) return {"\\sqrt{" + a.s + "}", Prec::Atom};
             return {"sqrt(" + a.s + ")", Prec::Atom};
         }
@@ -199,7 +202,7 @@ private:
                     return {r, n == 1 ? base.p : Prec::Mul};
                 }
             }
-            return {"std::pow(" + base.s + ", " + print(e).s + ")", Prec::Atom};
+            return {math() + "pow(" + base.s + ", " + print(e).s + ")", Prec::Atom};
         }
         if (mode_ == Mode::Latex) {
             Out ex = print(e);
@@ -218,6 +221,7 @@ private:
     }
 
     int cpp_max_power() const { return cpp_ ? cpp_->max_multiply_power : 8; }
+    std::string math() const { return cpp_ ? cpp_->math_prefix : std::string("std::"); }
 
     // Display order of factors: numbers, constants, variables, functions, sums; then text.
     static int rank(Expr f) {

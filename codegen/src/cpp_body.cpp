@@ -12,7 +12,7 @@ namespace phynjo::codegen::detail {
 namespace {
 
 /// The loads of the user variables a CSE result uses, in a deterministic order.
-std::string loads(const Names& names, const cas::CseResult& r, bool& uses_t, bool& uses_params) {
+std::string loads(const Names& names, const cas::CseResult& r, bool& uses_t, bool& uses_params, bool generic) {
     // the variables used, in a deterministic order
     std::vector<Expr> all = r.outputs;
     for (const auto& [t, v] : r.assignments) all.push_back(v);
@@ -26,7 +26,7 @@ std::string loads(const Names& names, const cas::CseResult& r, bool& uses_t, boo
         if (v == cas::time_symbol()) uses_t = true;
         else {
             if (local[0] == 'k') uses_params = true;
-            s += names.load(v);
+            s += names.load(v, generic);
         }
     }
     return s;
@@ -88,7 +88,9 @@ std::optional<std::string> consecutive(const std::vector<std::string>& entries) 
 /// and the values pass between them through memory, at a few per cent of run time.
 class Statements {
 public:
-    Statements(const Names& names, const cas::CseResult& r) : names_(names) {
+    Statements(const Names& names, const cas::CseResult& r, bool generic = false) : names_(names) {
+        generic_ = generic;
+        if (generic) cpp_.math_prefix = kLanes;
         chunked_ = r.assignments.size() + r.outputs.size() >= names.piece_threshold;
         if (chunked_) {
             array_ = names.temp_prefix() + "v"; // no temporary is PREFIX followed by a letter
@@ -103,19 +105,21 @@ public:
     }
     bool chunked() const noexcept { return chunked_; }
     /// `double xv[N];` for a chunked body (declared before any of its statements).
-    std::string declaration() const { return chunked_ ? "    double " + array_ + "[" + std::to_string(slots_) + "];\n" : ""; }
+    std::string declaration() const {
+        return chunked_ ? std::string(generic_ ? "    T " : "    double ") + array_ + "[" + std::to_string(slots_) + "];\n" : "";
+    }
     /// The statement computing temporary `t` as `v`.
     void assign(std::string& out, Expr t, Expr v) {
         if (!chunked_) {
-            out += "    const double " + names_.local(t) + " = " + cas::to_cpp(v, cpp_) + ";\n";
+            out += std::string(generic_ ? "    const auto " : "    const double ") + names_.local(t) + " = " + cas::to_cpp(v, cpp_) + ";\n";
             return;
         }
-        add(out, "    " + array_ + "[" + std::to_string(slot_.at(t)) + "] = " + cas::to_cpp(v, cpp_) + ";\n");
+        add(out, "    " + array_ + "[" + std::to_string(slot_.at(t)) + "] = " + typed(cas::to_cpp(v, cpp_)) + ";\n");
     }
     /// The C++ expression of output `j` (`e`); in a chunked body the output is stored in the
     /// array by a statement appended to `out`, and the expression is its element.
     std::string output(std::string& out, std::size_t j, Expr e) {
-        std::string c = cas::to_cpp(e, cpp_);
+        std::string c = typed(cas::to_cpp(e, cpp_));
         if (!chunked_) return c;
         const std::string element = array_ + "[" + std::to_string(slot_.size() + j) + "]";
         add(out, "    " + element + " = " + c + ";\n");
@@ -126,6 +130,9 @@ public:
 
 private:
     void add(std::string& out, const std::string& statement) { pieces_.add(out, statement); }
+    /// A value of type T in a generic body (a constant or a parameters' product is a double).
+    std::string typed(const std::string& c) const { return generic_ ? std::string(kLanes) + "as<T>(" + c + ")" : c; }
+    bool generic_ = false;
     Pieces pieces_;
     const Names& names_;
     cas::CppOptions cpp_;
@@ -138,10 +145,10 @@ private:
 } // namespace
 
 std::string body(const Names& names, const std::vector<Expr>& outputs, std::vector<std::string>& results,
-                 bool& uses_t, bool& uses_params) {
+                 bool& uses_t, bool& uses_params, bool generic) {
     const cas::CseResult r = cas::cse(outputs, {.prefix = names.temp_prefix(), .hoist_power_bases = true});
-    Statements st(names, r);
-    std::string s = loads(names, r, uses_t, uses_params) + st.declaration();
+    Statements st(names, r, generic);
+    std::string s = loads(names, r, uses_t, uses_params, generic) + st.declaration();
     for (const auto& [t, v] : r.assignments) st.assign(s, t, v);
     results.clear();
     for (std::size_t j = 0; j < r.outputs.size(); ++j) results.push_back(st.output(s, j, r.outputs[j]));
@@ -153,7 +160,7 @@ void body_split(const Names& names, const std::vector<Expr>& outputs, const std:
                 std::vector<std::string>& results, std::string& early, std::string& late, bool& uses_t, bool& uses_params) {
     const cas::CseResult r = cas::cse(outputs, {.prefix = names.temp_prefix(), .hoist_power_bases = true});
     Statements st(names, r);
-    early = loads(names, r, uses_t, uses_params) + st.declaration();
+    early = loads(names, r, uses_t, uses_params, false) + st.declaration();
     late.clear();
     std::unordered_set<Expr> is_late(late_variables.begin(), late_variables.end());
     for (const auto& [t, v] : r.assignments) {

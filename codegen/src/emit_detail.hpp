@@ -57,8 +57,9 @@ public:
         return std::string(cas::symbol_name(v)); // a CSE temporary
     }
     /// `const double q0 = q[0];` for a user variable, nothing for t and temporaries.
-    std::string load(Expr v) const {
-        if (auto it = load_.find(v); it != load_.end()) return "    const double " + local(v) + " = " + it->second + ";\n";
+    std::string load(Expr v, bool generic = false) const {
+        if (auto it = load_.find(v); it != load_.end())
+            return std::string(generic ? "    const auto " : "    const double ") + local(v) + " = " + it->second + ";\n";
         return {};
     }
     bool is_user(Expr v) const { return local_.count(v) > 0; }
@@ -75,9 +76,15 @@ private:
 
 /// Straight-line code computing `outputs`: returns the statements, and the C++ expression of
 /// each output in `results`. `outputs` are already in Horner form (emit_cpp converts every
-/// expression once).
+/// expression once). `generic`: for a function template over the number type T (double, or
+/// lanes of runs): temporaries `const auto`, math through lanes.hpp, outputs of type T.
 std::string body(const Names& names, const std::vector<Expr>& outputs, std::vector<std::string>& results,
-                 bool& uses_t, bool& uses_params);
+                 bool& uses_t, bool& uses_params, bool generic = false);
+/// True when generated code has rk4_step_values_lanes (phynjo extension): no constraints, and
+/// M solved in closed form (one or two coordinates).
+inline bool has_lane_kernel(const Model& m) { return m.constraints.empty() && m.dof() <= 2; }
+/// The C++ namespace of generic bodies' math functions (runtime/models/lanes.hpp).
+inline constexpr const char* kLanes = "phynjo::runtime::lanes::";
 
 /// The same, split in two: `early` computes what does not depend on any of `late_variables`
 /// (the temporaries in their order), `late` the rest; late outputs may use early temporaries.

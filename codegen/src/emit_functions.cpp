@@ -29,6 +29,7 @@ std::string diagonal_mass(const std::vector<std::string>& diagonal, const std::s
 }
 
 std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const Names& names) {
+    const std::string L = kLanes;
     const std::size_t n = m.dof();
     std::ostringstream s;
     std::vector<std::string> res;
@@ -180,24 +181,26 @@ std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const N
         // M and f from one CSE pass, then the solve
         std::vector<Expr> all = upper;
         all.insert(all.end(), eom.forcing.begin(), eom.forcing.end());
-        const std::string b = body(names, all, res, uses_t, uses_p);
-        s << "[[maybe_unused]] static inline void accelerations_core(const Parameters& P, double t, const double* q,\n"
-          << "                                                     const double* qdot, double* qddot) {\n"
+        const std::string b = body(names, all, res, uses_t, uses_p, true);
+        s << "template <class T>\n"
+          << "[[maybe_unused]] static inline void accelerations_core(const Parameters& P, T t, const T* q, const T* qdot,\n"
+          << "                                                     T* qddot) {\n"
           << unused(uses_t, uses_p) << unread(b) << b;
         auto fi = [&](std::size_t i) { return res[upper.size() + i]; };
         const std::string singular =
             "throw phynjo::runtime::SingularMassMatrix(\"" + m.name + "::accelerations: the mass matrix is singular\");";
         if (n == 1) {
-            s << "    const double m00 = " << Mij(0, 0) << ";\n"
-              << "    if (m00 == 0) " << singular << "\n"
+            s << "    const auto m00 = " << Mij(0, 0) << ";\n"
+              << "    if (" << L << "any(m00 == 0)) " << singular << "\n"
               << "    qddot[0] = (" << fi(0) << ")/m00;\n";
         } else if (n == 2) {
-            s << "    const double m00 = " << Mij(0, 0) << ", m01 = " << Mij(0, 1) << ", m11 = " << Mij(1, 1) << ";\n"
-              << "    const double f0 = " << fi(0) << ", f1 = " << fi(1) << ";\n"
-              << "    const double det = m00*m11 - m01*m01;\n"
-              << "    if (std::fabs(det) <= phynjo::runtime::kSingularTolerance*(std::fabs(m00*m11) + m01*m01))\n"
+            s << "    const auto m00 = " << Mij(0, 0) << ", m01 = " << Mij(0, 1) << ", m11 = " << Mij(1, 1) << ";\n"
+              << "    const auto f0 = " << fi(0) << ", f1 = " << fi(1) << ";\n"
+              << "    const auto det = m00*m11 - m01*m01;\n"
+              << "    if (" << L << "any(" << L << "fabs(det) <= phynjo::runtime::kSingularTolerance*(" << L
+              << "fabs(m00*m11) + m01*m01)))\n"
               << "        " << singular << "\n"
-              << "    const double inv = 1.0/det;\n"
+              << "    const auto inv = 1.0/det;\n"
               << "    qddot[0] = (m11*f0 - m01*f1)*inv;\n"
               << "    qddot[1] = (m00*f1 - m01*f0)*inv;\n";
         } else if (is_diagonal(eom.mass_matrix, n)) {
@@ -215,8 +218,8 @@ std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const N
               << "    for (std::size_t i = 0; i < " << n << "; ++i) qddot[i] = b[i];\n";
         }
         s << "    for (std::size_t i = 0; i < " << n << "; ++i)\n"
-          << "        if (!std::isfinite(qddot[i])) throw phynjo::runtime::NonFiniteResult(\"" << m.name
-          << "::accelerations: non-finite result at t = \" + std::to_string(t));\n"
+          << "        if (" << L << "not_finite(qddot[i])) throw phynjo::runtime::NonFiniteResult(\"" << m.name
+          << "::accelerations: non-finite result at t = \" + std::to_string(" << L << "first(t)));\n"
           << "}" << glue << "\n";
     }
     {
@@ -224,19 +227,19 @@ std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const N
         std::vector<Expr> guards;
         for (const Event& e : m.events) guards.push_back(e.guard);
         guards = cas::horner(guards);
-        const std::string b = ne > 0 ? body(names, guards, res, uses_t, uses_p) : std::string();
+        const std::string b = ne > 0 ? body(names, guards, res, uses_t, uses_p, true) : std::string();
         if (ne == 0) uses_t = uses_p = false;
-        s << "[[maybe_unused]] static inline void guards_core(const Parameters& P, double t, const double* q,\n"
-          << "                                              const double* qdot, double* g) {\n"
+        s << "template <class T>\n"
+          << "[[maybe_unused]] static inline void guards_core(const Parameters& P, T t, const T* q, const T* qdot, T* g) {\n"
           << unused(uses_t, uses_p) << unread(b) << b;
         if (ne == 0) s << "    (void)g;\n";
         for (std::size_t k = 0; k < ne; ++k) s << "    g[" << k << "] = " << res[k] << ";\n";
         s << "}" << glue << "\n";
     }
     {
-        const std::string b = body(names, {eom.energy}, res, uses_t, uses_p);
-        s << "[[maybe_unused]] static inline double energy_core(const Parameters& P, double t, const double* q,\n"
-          << "                                                const double* qdot) {\n"
+        const std::string b = body(names, {eom.energy}, res, uses_t, uses_p, true);
+        s << "template <class T>\n"
+          << "[[maybe_unused]] static inline T energy_core(const Parameters& P, T t, const T* q, const T* qdot) {\n"
           << unused(uses_t, uses_p) << unread(b) << b << "    return " << res[0] << ";\n}" << glue << "\n";
     }
     if (mc == 0)
@@ -254,14 +257,14 @@ std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const N
     // rk4_step (phynjo extension): the runtime's lagrangian_rk4 rule, the same operations in
     // the same order (the same bits), its first stage's q'' given; the stages in a core that
     // rk4_step_values shares
-    s << "[[maybe_unused]] static inline void rk4_stages(const Parameters& p, double t, double h, double* q, double* qdot,\n"
-      << "                                             const double* qddot) {\n"
-      << "    std::array<double, " << n << "> q0, v0, aq, av, k;\n"
+    s << "template <class T>\n"
+      << "[[maybe_unused]] static inline void rk4_stages(const Parameters& p, T t, T h, T* q, T* qdot, const T* qddot) {\n"
+      << "    std::array<T, " << n << "> q0, v0, aq, av, k;\n"
       << "    for (std::size_t i = 0; i < " << n << "; ++i) {\n"
-      << "        q0[i] = q[i];\n        v0[i] = qdot[i];\n        aq[i] = av[i] = 0;\n        k[i] = qddot[i];\n    }\n"
+      << "        q0[i] = q[i];\n        v0[i] = qdot[i];\n        aq[i] = av[i] = T{};\n        k[i] = qddot[i];\n    }\n"
       << "    auto stage = [&](double weight, double next, bool last) {\n"
       << "        for (std::size_t i = 0; i < " << n << "; ++i) {\n"
-      << "            const double kq = qdot[i], kv = k[i];\n"
+      << "            const T kq = qdot[i], kv = k[i];\n"
       << "            aq[i] += weight * kq;\n            av[i] += weight * kv;\n"
       << "            if (last) {\n                q[i] = q0[i] + h * aq[i];\n                qdot[i] = v0[i] + h * av[i];\n"
       << "            } else {\n                q[i] = q0[i] + next * h * kq;\n                qdot[i] = v0[i] + next * h * kv;\n"
@@ -276,9 +279,10 @@ std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const N
     // q'', E and the guards at one state: the three cores on a copy of the state, which no
     // store through E, g or qddot can change (so the compiler sees the same arguments of sin
     // and cos in the three)
-    s << "[[maybe_unused]] static inline bool values_core(const Parameters& P, double t, const double* q,\n"
-      << "                                              const double* qdot, double* qddot, double& E, double* g) {\n"
-      << "    std::array<double, " << n << "> x, v;\n"
+    s << "template <class T>\n"
+      << "[[maybe_unused]] static inline bool values_core(const Parameters& P, T t, const T* q, const T* qdot, T* qddot, T& E,\n"
+      << "                                              T* g) {\n"
+      << "    std::array<T, " << n << "> x, v;\n"
       << "    std::copy_n(q, " << n << ", x.begin());\n"
       << "    std::copy_n(qdot, " << n << ", v.begin());\n"
       << "    E = energy_core(P, t, x.data(), v.data());\n"
@@ -304,7 +308,31 @@ std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const N
       << sizes("rk4_step_values", {{"q", n}, {"qdot", n}, {"qddot", n}, {"g", ne}})
       << "    const Parameters p = P;\n"
       << "    rk4_stages(p, t, h, q.data(), qdot.data(), qddot.data());\n"
-      << "    return values_core(p, t1, q.data(), qdot.data(), qddot.data(), E, g.data());\n}\n\n";
+      << "    return values_core(p, t1, q.data(), qdot.data(), qddot.data(), E, g.data());\n}"
+      << (has_lane_kernel(m) ? glue : "\n") << "\n";
+    if (has_lane_kernel(m)) {
+        // rk4_step_values for lanes::kWidth runs at once: the same cores instantiated for Lanes
+        s << "bool rk4_step_values_lanes(const Parameters& P, const double* t, const double* h, const double* t1, double* q,\n"
+          << "                           double* qdot, double* qddot, double* E, double* g) {\n"
+          << "    namespace lanes = phynjo::runtime::lanes;\n"
+          << "    constexpr std::size_t W = lanes::kWidth;\n"
+          << "    std::array<lanes::Lanes, " << n << "> x, v, a;\n"
+          << "    std::array<lanes::Lanes, " << ne << "> gl;\n"
+          << "    lanes::Lanes e;\n"
+          << "    for (std::size_t i = 0; i < " << n << "; ++i) {\n"
+          << "        x[i] = lanes::load(q + i * W);\n        v[i] = lanes::load(qdot + i * W);\n"
+          << "        a[i] = lanes::load(qddot + i * W);\n    }\n"
+          << "    const Parameters p = P;\n"
+          << "    rk4_stages(p, lanes::load(t), lanes::load(h), x.data(), v.data(), a.data());\n"
+          << "    const bool ok = values_core(p, lanes::load(t1), x.data(), v.data(), a.data(), e, gl.data());\n"
+          << "    for (std::size_t i = 0; i < " << n << "; ++i) {\n"
+          << "        lanes::store(q + i * W, x[i]);\n        lanes::store(qdot + i * W, v[i]);\n"
+          << "        lanes::store(qddot + i * W, a[i]);\n    }\n"
+          << "    lanes::store(E, e);\n"
+          << (ne > 0 ? "    for (std::size_t k = 0; k < " + std::to_string(ne) + "; ++k) lanes::store(g + k * W, gl[k]);\n"
+                     : std::string("    (void)g;\n"))
+          << "    return ok;\n}\n\n";
+    }
     // events (contract v2): apply_event one case per event, every right side read from the
     // state before any is stored
     s << "void apply_event(const Parameters& P, std::size_t k, double t, std::span<double> q, std::span<double> qdot) {\n"

@@ -116,6 +116,15 @@ std::string emit_header(const Model& m, bool mass_depends_on_velocities) {
       << "/// and g, in one call: a sweep's step. The bits of the two calls.\n"
       << "bool rk4_step_values(const Parameters& P, double t, double h, double t1, std::span<double> q,\n"
       << "                     std::span<double> qdot, std::span<double> qddot, double& E, std::span<double> g);\n"
+      << (has_lane_kernel(m)
+              ? "/// (phynjo) rk4_step_values for phynjo::runtime::lanes::kWidth runs at once, each in a lane of\n"
+                "/// SIMD registers (runtime/models/lanes.hpp): arrays by component, run l's q_i at q[i*kWidth + l]\n"
+                "/// (t, h, t1, E: one per run; g: by event). The arithmetic of rk4_step_values lane by lane; sin,\n"
+                "/// cos, exp, log, pow from libmvec where lanes.hpp says so. Returns false when some run's q'', E\n"
+                "/// or g could not be evaluated; throws what rk4_step_values throws for some run.\n"
+                "bool rk4_step_values_lanes(const Parameters& P, const double* t, const double* h, const double* t1,\n"
+                "                           double* q, double* qdot, double* qddot, double* E, double* g);\n"
+              : "")
       << "/// The initial values of the model file (0 where none is given).\n"
       << "void initial_state(const Parameters& P, std::span<double> q, std::span<double> qdot);\n"
       << "/// ∂L/∂q + Q − ∂R/∂q': the right side of p' (for canonical integrators).\n"

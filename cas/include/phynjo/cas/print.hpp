@@ -21,6 +21,10 @@ struct CppOptions {
     std::function<std::string(Expr)> variable_name;
     /// Largest |n| printed as repeated multiplication for `x^n` (integer n); above it, std::pow.
     int max_multiply_power = 8;
+    /// Qualification of the math functions (sin, fabs, sqrt, pow, atan2, sign): `std::`, or a
+    /// namespace that overloads them for other number types (generated code's lanes: then
+    /// sign(x) is a call too).
+    std::string math_prefix = "std::";
 };
 
 /// A C++ expression of type double: `std::sin`, integer powers as multiplications,

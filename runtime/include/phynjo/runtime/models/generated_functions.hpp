@@ -7,4 +7,5 @@
 #include "phynjo/runtime/core/errors.hpp"
 #include "phynjo/runtime/models/derived.hpp"
 #include "phynjo/runtime/models/kkt_solve.hpp"
+#include "phynjo/runtime/models/lanes.hpp"
 #include "phynjo/runtime/models/symmetric_solve.hpp"
