@@ -13,6 +13,7 @@
 #include "bench_flip.hpp"
 #include "phynjo/runtime/models/ensemble.hpp"
 
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -67,15 +68,23 @@ int main(int argc, char** argv) {
     settings.t_end = t_end;
     settings.dt = dt;
     std::vector<double> v(2);
-    // phynjo: the sweep's runs, one thread
+    // phynjo: the sweep's runs, one thread, as run_sweep runs them (run_many: lanes of runs when
+    // the model has lane kernels)
     double flips_p = 0, worst = 0;
     int disagree = 0;
     std::vector<double> t_phynjo(plan.size());
-    const auto t0 = Clock::now();
+    std::vector<std::array<std::pair<std::size_t, double>, 2>> q0s(plan.size());
+    std::vector<RunStart> starts(plan.size());
     for (std::size_t k = 0; k < plan.size(); ++k) {
         plan.values(k, v);
-        const std::pair<std::size_t, double> q0[2] = {{0, v[0]}, {1, v[1]}};
-        const RunSummary r = run_one(sys, q0, {}, settings);
+        q0s[k] = {{{0, v[0]}, {1, v[1]}}};
+        starts[k].q0 = q0s[k];
+    }
+    std::vector<RunSummary> summaries(plan.size());
+    const auto t0 = Clock::now();
+    run_many(sys, starts, settings, summaries);
+    for (std::size_t k = 0; k < plan.size(); ++k) {
+        const RunSummary& r = summaries[k];
         t_phynjo[k] = r.t;
         flips_p += r.status == RunSummary::Status::stopped;
         worst = std::max(worst, r.max_energy_error);

@@ -7,8 +7,11 @@
 #include "phynjo/runtime/integrators/lagrangian_midpoint.hpp"
 #include "phynjo/runtime/integrators/lagrangian_rattle.hpp"
 #include "phynjo/runtime/integrators/lagrangian_rk4.hpp"
+#include "phynjo/runtime/models/lanes.hpp"
 
 #include <algorithm>
+#include <memory>
+#include <array>
 #include <charconv>
 #include <chrono>
 #include <cmath>
@@ -248,11 +251,146 @@ private:
     KernelCall call_{};
 };
 
+/// A run through generated code's fused kernels (run_one's path for rk4 without constraints)
+/// as an object: constructed at its initial state, then next() / done() per kernel call until
+/// next() says it is over, then summary(). The same operations, checks and results as run_one
+/// in the same order; exceptions become a `failed` summary. Not movable (the step machine
+/// holds references into it).
+class FastRun {
+public:
+    FastRun(const LagrangianSystem& sys, std::span<const std::pair<std::size_t, double>> q0,
+            std::span<const std::pair<std::size_t, double>> v0, const RunSettings& settings, std::string* trajectory)
+        : sys_(sys), trajectory_(trajectory), w_(make_lagrangian_world(sys)) {
+        r_.first_event.assign(sys.n_events, std::numeric_limits<double>::quiet_NaN());
+        for (const auto& [i, v] : q0) w_.at(kGQ, static_cast<Index>(i)) = v;
+        for (const auto& [i, v] : v0) w_.at(kGV, static_cast<Index>(i)) = v;
+        try {
+            e0_ = sys.energy(0, w_.field(kGQ), w_.field(kGV));
+            scale_ = std::max(1.0, std::abs(e0_));
+            const long steps = detail::whole_steps(settings.t_end, settings.dt);
+            const double last = settings.t_end - static_cast<double>(steps) * settings.dt;
+            const long total = steps + (last > 1e-9 * settings.dt ? 1 : 0);
+            monitor_.emplace(sys, settings.events);
+            every_ = std::max(1L, settings.every);
+            if (trajectory_) row(e0_);
+            run_.emplace(sys, w_, *monitor_, StepPlan{steps, last, total, settings.dt, settings.t_end}, *this);
+        } catch (const std::exception& e) {
+            fail(e);
+        }
+    }
+    FastRun(const FastRun&) = delete;
+    FastRun& operator=(const FastRun&) = delete;
+
+    /// The kernel call the run needs next, or null when it is over.
+    const KernelCall* next() {
+        if (over_) return nullptr;
+        try {
+            const KernelCall* c = run_->next();
+            if (!c) complete();
+            return c;
+        } catch (const std::exception& e) {
+            fail(e);
+            return nullptr;
+        }
+    }
+    /// After the kernel wrote the call's results into q(), qdot(), qddot(), energy(), guards().
+    void done(bool ok) {
+        try {
+            run_->done(ok);
+        } catch (const std::exception& e) {
+            fail(e);
+        }
+    }
+    /// The kernel threw for this run (q() and qdot() as the kernel left them).
+    void fail(const std::exception& e) {
+        r_.status = RunSummary::Status::failed;
+        r_.reason = e.what();
+        over_ = true;
+    }
+    /// What the run ended with (after next() returned null).
+    RunSummary summary() {
+        r_.t = w_.time;
+        r_.q.assign(w_.field(kGQ).begin(), w_.field(kGQ).end());
+        r_.qdot.assign(w_.field(kGV).begin(), w_.field(kGV).end());
+        return std::move(r_);
+    }
+    std::span<double> q() noexcept { return run_->q(); }
+    std::span<double> qdot() noexcept { return run_->qdot(); }
+    std::span<double> qddot() noexcept { return run_->qddot(); }
+    double& energy() noexcept { return run_->energy(); }
+    std::span<double> guards() noexcept { return run_->guards(); }
+
+    /// After each whole step (KernelRun's Record): the state finite, the energy error (E from
+    /// the step's kernel), a trajectory row.
+    void operator()(long k, bool last_step, double e) {
+        const double* const wq = w_.field(kGQ).data();
+        const double* const wv = w_.field(kGV).data();
+        for (std::size_t i = 0; i < sys_.dof; ++i)
+            if (!std::isfinite(wq[i]) || !std::isfinite(wv[i])) throw Error("the state is not finite");
+        r_.max_energy_error = std::max(r_.max_energy_error, std::abs(e - e0_) / scale_);
+        if (trajectory_ && (last_step || k % every_ == 0)) row(e);
+    }
+
+private:
+    void row(double e) {
+        std::string& out = *trajectory_;
+        append_number(out, w_.time);
+        for (double x : w_.field(kGQ)) out += ',', append_number(out, x);
+        for (double x : w_.field(kGV)) out += ',', append_number(out, x);
+        out += ',', append_number(out, e);
+        out += '\n';
+    }
+    /// The run is over without an error: the events' first times, a stop's reason.
+    void complete() {
+        over_ = true;
+        for (const EventRecord& e : monitor_->log())
+            if (std::isnan(r_.first_event[e.event])) r_.first_event[e.event] = e.time;
+        if (monitor_->stopped() && !monitor_->log().empty()) {
+            r_.status = RunSummary::Status::stopped;
+            r_.reason = "event " + sys_.event_names[monitor_->log().back().event];
+        }
+    }
+
+    const LagrangianSystem& sys_;
+    std::string* trajectory_;
+    RunSummary r_;
+    World w_;
+    std::optional<EventMonitor> monitor_;
+    std::optional<KernelRun<FastRun>> run_;
+    double e0_ = 0, scale_ = 1;
+    long every_ = 1;
+    bool over_ = false;
+};
+
+/// run_one takes FastRun's path: rk4, no constraints, generated code's fused kernels.
+bool fast_path(const LagrangianSystem& sys, const RunSettings& settings) {
+    return settings.integrator == "rk4" && sys.n_constraints == 0 && sys.rk4_step_values && sys.accelerations_energy_guards;
+}
+
 } // namespace
 
 RunSummary run_one(const LagrangianSystem& sys, std::span<const std::pair<std::size_t, double>> q0,
                    std::span<const std::pair<std::size_t, double>> v0, const RunSettings& settings,
                    std::string* trajectory) {
+    if (fast_path(sys, settings)) {
+        // Generated code's fused kernels: per step one call, rk4_step_values — the RK4 step,
+        // then q'', E and the guards at its end, whose q'' is the next step's first stage and
+        // whose guards the monitor reads (a state's sines and cosines computed once). The
+        // same bits as the workflow below: the same functions' arithmetic in the same order,
+        // the exceptions thrown where they would be (tests/codegen/test_kernels.cpp).
+        FastRun f(sys, q0, v0, settings, trajectory);
+        while (const KernelCall* c = f.next()) {
+            bool ok = false;
+            try {
+                ok = sys.rk4_step_values(c->t, c->h, c->t1, f.q(), f.qdot(), f.qddot(), f.energy(), f.guards());
+            } catch (const std::exception& e) {
+                f.fail(e);
+                break;
+            }
+            f.done(ok);
+        }
+        return f.summary();
+    }
     RunSummary r;
     r.first_event.assign(sys.n_events, std::numeric_limits<double>::quiet_NaN());
     World w = make_lagrangian_world(sys);
@@ -319,16 +457,6 @@ RunSummary run_one(const LagrangianSystem& sys, std::span<const std::pair<std::s
             };
             const EventMonitor::Extension dense = [&](double t, std::span<double> q, std::span<double> v) { dp.dense(t, q, v); };
             drive(step_to, &dense);
-        } else if (settings.integrator == "rk4" && sys.n_constraints == 0 && sys.rk4_step_values &&
-                   sys.accelerations_energy_guards) {
-            // Generated code's fused kernels: per step one call, rk4_step_values — the RK4 step,
-            // then q'', E and the guards at its end, whose q'' is the next step's first stage and
-            // whose guards the monitor reads (a state's sines and cosines computed once). The
-            // same bits as the workflow below: the same functions' arithmetic in the same order,
-            // the exceptions thrown where they would be (tests/codegen/test_kernels.cpp).
-            KernelRun run(sys, w, monitor, {steps, last, total, settings.dt, settings.t_end}, record);
-            while (const KernelCall* c = run.next())
-                run.done(sys.rk4_step_values(c->t, c->h, c->t1, run.q(), run.qdot(), run.qddot(), run.energy(), run.guards()));
         } else {
             Stepper stepper(settings.integrator == "rk4"        ? lagrangian_rk4(sys, w.layout_ptr(), settings.projection)
                             : settings.integrator == "midpoint" ? lagrangian_midpoint(sys, w.layout_ptr(), settings.projection)
@@ -347,6 +475,107 @@ RunSummary run_one(const LagrangianSystem& sys, std::span<const std::pair<std::s
     }
     finish();
     return r;
+}
+
+void run_many(const LagrangianSystem& sys, std::span<const RunStart> starts, const RunSettings& settings,
+              std::span<RunSummary> out, const std::function<void(std::size_t)>& finished) {
+    if (out.size() != starts.size())
+        throw std::invalid_argument("run_many: " + std::to_string(starts.size()) + " runs but " +
+                                    std::to_string(out.size()) + " summaries");
+    if (!fast_path(sys, settings) || !sys.rk4_step_values_lanes) {
+        for (std::size_t k = 0; k < starts.size(); ++k) {
+            out[k] = run_one(sys, starts[k].q0, starts[k].v0, settings, starts[k].trajectory);
+            if (finished) finished(k);
+        }
+        return;
+    }
+    // kWidth slots, each holding a run until it is over, then the next run in order. Each call
+    // of the lane kernel steps every slot's run once; an empty slot repeats an occupied one
+    // (its results unused). A lane's results depend on its own operands only, so a run's bits
+    // do not depend on the company it keeps.
+    constexpr std::size_t W = lanes::kWidth;
+    const std::size_t n = sys.dof, ne = sys.n_events;
+    std::array<std::unique_ptr<FastRun>, W> slot;
+    std::array<std::size_t, W> index{};
+    std::array<const KernelCall*, W> call{};
+    std::vector<double> t(W), h(W), t1(W), q(n * W), v(n * W), a(n * W), e(W), g(ne * W);
+    std::size_t next = 0;
+    auto retire = [&](std::size_t l) {
+        out[index[l]] = slot[l]->summary();
+        if (finished) finished(index[l]);
+        slot[l].reset();
+    };
+    auto fill = [&](std::size_t l) { // the next run that needs a call, in order
+        while (!slot[l] && next < starts.size()) {
+            index[l] = next;
+            slot[l] = std::make_unique<FastRun>(sys, starts[next].q0, starts[next].v0, settings, starts[next].trajectory);
+            ++next;
+            call[l] = slot[l]->next();
+            if (!call[l]) retire(l);
+        }
+    };
+    // lane `l` of the buffers from slot `s`'s run, and back
+    auto gather = [&](std::size_t l, std::size_t s) {
+        FastRun& f = *slot[s];
+        t[l] = call[s]->t;
+        h[l] = call[s]->h;
+        t1[l] = call[s]->t1;
+        for (std::size_t i = 0; i < n; ++i) {
+            q[i * W + l] = f.q()[i];
+            v[i * W + l] = f.qdot()[i];
+            a[i * W + l] = f.qddot()[i];
+        }
+    };
+    auto scatter = [&](std::size_t l, std::size_t s) {
+        FastRun& f = *slot[s];
+        for (std::size_t i = 0; i < n; ++i) {
+            f.q()[i] = q[i * W + l];
+            f.qdot()[i] = v[i * W + l];
+            f.qddot()[i] = a[i * W + l];
+        }
+        f.energy() = e[l];
+        for (std::size_t k = 0; k < ne; ++k) f.guards()[k] = g[k * W + l];
+    };
+    auto kernel = [&] { return sys.rk4_step_values_lanes(t.data(), h.data(), t1.data(), q.data(), v.data(), a.data(), e.data(), g.data()); };
+    for (std::size_t l = 0; l < W; ++l) fill(l);
+    for (;;) {
+        std::size_t first = W;
+        for (std::size_t l = 0; l < W && first == W; ++l)
+            if (slot[l]) first = l;
+        if (first == W) break;
+        for (std::size_t l = 0; l < W; ++l) gather(l, slot[l] ? l : first);
+        bool ok = false, threw = false;
+        try {
+            ok = kernel();
+        } catch (const std::exception&) {
+            threw = true;
+        }
+        for (std::size_t l = 0; l < W; ++l) {
+            if (!slot[l]) continue;
+            if (!threw && ok) {
+                scatter(l, l);
+                slot[l]->done(true);
+                continue;
+            }
+            // some run failed: each again alone, in every lane (the same bits, its own verdict)
+            for (std::size_t m = 0; m < W; ++m) gather(m, l);
+            try {
+                const bool alone = kernel();
+                scatter(0, l);
+                slot[l]->done(alone);
+            } catch (const std::exception& err) {
+                slot[l]->fail(err); // the state at the step's start (the kernel stores only at its end)
+            }
+        }
+        for (std::size_t l = 0; l < W; ++l) {
+            if (!slot[l]) continue;
+            call[l] = slot[l]->next();
+            if (!call[l]) {
+                retire(l);
+                fill(l);
+            }
+        }
+    }
 }
 
 namespace {
@@ -487,7 +716,6 @@ int run_sweep(const SweepCommand& cmd, const ModelCommandLine& model, const char
     std::vector<RunSummary> results(batch);
     std::vector<double> values(names.size());
     std::vector<std::vector<double>> batch_values(batch);
-    std::vector<std::string> trajectory(threads);
     std::vector<std::string> trajectory_failed(threads); // a file a thread could not write
     // Batch b (runs done + b·batch …): run on this rank's threads, its summary rows returned.
     auto run_batch = [&](std::size_t b) {
@@ -506,21 +734,35 @@ int run_sweep(const SweepCommand& cmd, const ModelCommandLine& model, const char
             if (parameters_swept) systems.push_back(model.system());
         }
         auto task = [&](unsigned i) {
-            for (std::size_t j = i; j < count; j += threads) {
-                if (cmd.trajectories.empty()) {
-                    results[j] = run_one(parameters_swept ? systems[j] : base, q0s[j], v0s[j], cmd.settings);
-                    continue;
-                }
-                std::string& rows = trajectory[i];
-                rows = trajectory_header;
-                results[j] = run_one(parameters_swept ? systems[j] : base, q0s[j], v0s[j], cmd.settings, &rows);
+            // this thread's runs: i, i + threads, … (run_many's results do not depend on the grouping)
+            std::vector<std::size_t> mine;
+            for (std::size_t j = i; j < count; j += threads) mine.push_back(j);
+            std::vector<std::string> rows(cmd.trajectories.empty() ? 0 : mine.size());
+            auto write = [&](std::size_t k) { // run mine[k] is over: its trajectory file
+                if (rows.empty()) return;
                 char name[48];
-                std::snprintf(name, sizeof name, "run_%0*zu.csv", width, first + j);
+                std::snprintf(name, sizeof name, "run_%0*zu.csv", width, first + mine[k]);
                 const std::string path = (std::filesystem::path(cmd.trajectories) / name).string();
                 std::FILE* f = std::fopen(path.c_str(), "w");
-                const bool ok = f && std::fwrite(rows.data(), 1, rows.size(), f) == rows.size();
+                const bool ok = f && std::fwrite(rows[k].data(), 1, rows[k].size(), f) == rows[k].size();
                 if ((f && std::fclose(f) != 0) || !ok) trajectory_failed[i] = path;
+                std::string().swap(rows[k]);
+            };
+            std::vector<RunSummary> mine_results(mine.size());
+            if (parameters_swept) { // a system per run: one at a time
+                for (std::size_t k = 0; k < mine.size(); ++k) {
+                    const std::size_t j = mine[k];
+                    const RunStart start{q0s[j], v0s[j], rows.empty() ? nullptr : &(rows[k] = trajectory_header)};
+                    run_many(systems[j], std::span<const RunStart>(&start, 1), cmd.settings,
+                             std::span<RunSummary>(&mine_results[k], 1), [&](std::size_t) { write(k); });
+                }
+            } else {
+                std::vector<RunStart> starts;
+                for (std::size_t k = 0; k < mine.size(); ++k)
+                    starts.push_back({q0s[mine[k]], v0s[mine[k]], rows.empty() ? nullptr : &(rows[k] = trajectory_header)});
+                run_many(base, starts, cmd.settings, mine_results, write);
             }
+            for (std::size_t k = 0; k < mine.size(); ++k) results[mine[k]] = std::move(mine_results[k]);
         };
         executor.fork_join(threads, task);
         for (const std::string& path : trajectory_failed)

@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <optional>
 #include <span>
+#include <functional>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -78,6 +79,24 @@ struct RunSettings {
 RunSummary run_one(const LagrangianSystem& system, std::span<const std::pair<std::size_t, double>> q0,
                    std::span<const std::pair<std::size_t, double>> v0, const RunSettings& settings,
                    std::string* trajectory = nullptr);
+
+/// One run of run_many: its initial values (as run_one's q0 and v0) and, optionally, the
+/// string its trajectory rows are appended to.
+struct RunStart {
+    std::span<const std::pair<std::size_t, double>> q0, v0;
+    std::string* trajectory = nullptr;
+};
+
+/// The runs `starts` of one system on this thread, their summaries in `out` (same size), as
+/// run_one gives them — but, when the model has generated lane kernels
+/// (`rk4_step_values_lanes`: rk4, no constraints, one or two coordinates), lanes::kWidth runs
+/// at a time in the lanes of SIMD registers (runtime/models/lanes.hpp): then a run's sines and
+/// cosines are libmvec's, so its summary agrees with run_one's to rounding, not bit for bit.
+/// Either way a run's summary depends on that run alone: not on the other runs, their order,
+/// or which of them shared its registers. `finished(k)`, when given, is called as soon as run
+/// k is over (runs end out of order): its trajectory is complete.
+void run_many(const LagrangianSystem& system, std::span<const RunStart> starts, const RunSettings& settings,
+              std::span<RunSummary> out, const std::function<void(std::size_t)>& finished = {});
 
 /// The processes a sweep is shared among: this process alone unless a SweepCommand names others
 /// (MPI's ranks: phynjo/mpi/mpi_sweep.hpp). The runs go in batches of equal size, batch i to

@@ -80,7 +80,7 @@ inline bool not_finite(double x) { return !std::isfinite(x); }
 namespace detail {
 template <class F>
 inline Lanes each(Lanes x, F f) {
-    Lanes r;
+    Lanes r{};
     for (std::size_t l = 0; l < kWidth; ++l) r[l] = f(x[l]);
     return r;
 }
@@ -98,7 +98,7 @@ inline Lanes cos(Lanes x) { return detail::each(x, [](double v) { return std::co
 inline Lanes exp(Lanes x) { return detail::each(x, [](double v) { return std::exp(v); }); }
 inline Lanes log(Lanes x) { return detail::each(x, [](double v) { return std::log(v); }); }
 inline Lanes pow(Lanes x, Lanes y) {
-    Lanes r;
+    Lanes r{};
     for (std::size_t l = 0; l < kWidth; ++l) r[l] = std::pow(x[l], y[l]);
     return r;
 }
@@ -115,7 +115,7 @@ inline Lanes cosh(Lanes x) { return detail::each(x, [](double v) { return std::c
 inline Lanes tanh(Lanes x) { return detail::each(x, [](double v) { return std::tanh(v); }); }
 inline Lanes sqrt(Lanes x) { return detail::each(x, [](double v) { return std::sqrt(v); }); }
 inline Lanes atan2(Lanes y, Lanes x) {
-    Lanes r;
+    Lanes r{};
     for (std::size_t l = 0; l < kWidth; ++l) r[l] = std::atan2(y[l], x[l]);
     return r;
 }
@@ -147,7 +147,7 @@ inline T as(Lanes x) {
 }
 /// kWidth consecutive doubles as Lanes, and back.
 inline Lanes load(const double* a) {
-    Lanes v;
+    Lanes v{};
     std::memcpy(&v, a, sizeof v);
     return v;
 }

@@ -1,0 +1,286 @@
+// Runs in the lanes of SIMD registers: generated rk4_step_values_lanes, runtime/models/lanes.hpp,
+// and run_many, which steps a sweep's runs kWidth at a time.
+// Bugs caught: a lane kernel that reads or writes another lane's component (a stride, a
+// store, a load out of place), or computes something else than rk4_step_values; a vector
+// sine whose lane depends on its neighbour (a run's bits would then depend on the run it was
+// paired with, and a sweep's rows on the thread count); `as` losing −0; run_many giving a
+// run another run's summary or trajectory, leaking one run's state into the next run of its
+// slot, letting a failing run decide its neighbour's step, or depending on the order or the
+// grouping of the runs; run_many drifting from run_one beyond rounding.
+#include "bouncing_ball.hpp"
+#include "coupled_balls.hpp"
+#include "driven.hpp"
+#include "flip_pendulum.hpp"
+#include "pendulum.hpp"
+#include "two_balls.hpp"
+
+#include "phynjo/runtime/models/ensemble.hpp"
+#include "phynjo/runtime/models/lanes.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+using namespace phynjo::runtime;
+namespace L = phynjo::runtime::lanes;
+constexpr std::size_t W = L::kWidth;
+
+namespace {
+
+bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+bool same_bits(std::span<const double> a, std::span<const double> b) {
+    return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0);
+}
+/// |a − b| within `rel` of max(1, |a|) (rounding: libmvec's functions against libm's).
+bool close(double a, double b, double rel) {
+    if (std::isnan(a) || std::isnan(b)) return std::isnan(a) && std::isnan(b);
+    return std::abs(a - b) <= rel * std::max(1.0, std::abs(a));
+}
+
+/// One lane of rk4_step_values_lanes' arrays.
+struct LaneState {
+    double t, h, t1;
+    std::vector<double> q, v, a, g;
+    double E = 0;
+};
+
+/// rk4_step_values_lanes on `lanes` (kWidth states); returns its result, the states updated.
+template <class Fn>
+bool call_lanes(Fn&& kernel, std::vector<LaneState>& lanes, std::size_t n, std::size_t ne) {
+    std::vector<double> t(W), h(W), t1(W), q(n * W), v(n * W), a(n * W), e(W), g(ne * W);
+    for (std::size_t l = 0; l < W; ++l) {
+        t[l] = lanes[l].t;
+        h[l] = lanes[l].h;
+        t1[l] = lanes[l].t1;
+        for (std::size_t i = 0; i < n; ++i) {
+            q[i * W + l] = lanes[l].q[i];
+            v[i * W + l] = lanes[l].v[i];
+            a[i * W + l] = lanes[l].a[i];
+        }
+    }
+    const bool ok = kernel(t.data(), h.data(), t1.data(), q.data(), v.data(), a.data(), e.data(), g.data());
+    for (std::size_t l = 0; l < W; ++l) {
+        for (std::size_t i = 0; i < n; ++i) {
+            lanes[l].q[i] = q[i * W + l];
+            lanes[l].v[i] = v[i * W + l];
+            lanes[l].a[i] = a[i * W + l];
+        }
+        lanes[l].E = e[l];
+        lanes[l].g.resize(ne);
+        for (std::size_t k = 0; k < ne; ++k) lanes[l].g[k] = g[k * W + l];
+    }
+    return ok;
+}
+
+/// At random states of model NS: each lane of one call is the lane's state alone (in every
+/// lane), bit for bit, and rk4_step_values within rounding (bit for bit without libmvec).
+#define PHYNJO_LANES_AGREE(NS)                                                                                         \
+    do {                                                                                                               \
+        namespace M = NS;                                                                                              \
+        INFO(#NS);                                                                                                     \
+        const M::Parameters P{};                                                                                       \
+        constexpr std::size_t n = M::dof, ne = M::n_events;                                                            \
+        auto kernel = [&](auto... x) { return M::rk4_step_values_lanes(P, x...); };                                    \
+        std::mt19937_64 rng(20261202);                                                                                 \
+        std::uniform_real_distribution<double> d(-2.0, 2.0);                                                          \
+        for (int trial = 0; trial < 50; ++trial) {                                                                     \
+            std::vector<LaneState> lanes(W);                                                                           \
+            for (auto& s : lanes) {                                                                                    \
+                s.q.resize(n);                                                                                         \
+                s.v.resize(n);                                                                                         \
+                s.a.resize(n);                                                                                         \
+                for (auto& x : s.q) x = d(rng);                                                                        \
+                for (auto& x : s.v) x = d(rng);                                                                        \
+                s.t = 1 + d(rng);                                                                                      \
+                s.h = 0.01 * (2.5 + d(rng));                                                                           \
+                s.t1 = s.t + s.h;                                                                                      \
+                M::accelerations(P, s.t, s.q, s.v, s.a);                                                               \
+            }                                                                                                          \
+            const std::vector<LaneState> start = lanes;                                                                \
+            CHECK(call_lanes(kernel, lanes, n, ne));                                                                   \
+            for (std::size_t l = 0; l < W; ++l) {                                                                      \
+                std::vector<LaneState> alone(W, start[l]);                                                             \
+                CHECK(call_lanes(kernel, alone, n, ne));                                                               \
+                CHECK(same_bits(alone[0].q, lanes[l].q));                                                              \
+                CHECK(same_bits(alone[0].v, lanes[l].v));                                                              \
+                CHECK(same_bits(alone[0].a, lanes[l].a));                                                              \
+                CHECK(same_bits(alone[0].g, lanes[l].g));                                                              \
+                CHECK(same_bits(alone[0].E, lanes[l].E));                                                              \
+                /* the scalar kernel */                                                                                \
+                std::vector<double> q = start[l].q, v = start[l].v, a = start[l].a, g(ne);                             \
+                double E = 0;                                                                                          \
+                CHECK(M::rk4_step_values(P, start[l].t, start[l].h, start[l].t1, q, v, a, E, g));                      \
+                for (std::size_t i = 0; i < n; ++i) {                                                                  \
+                    CHECK(close(q[i], lanes[l].q[i], 1e-14));                                                          \
+                    CHECK(close(v[i], lanes[l].v[i], 1e-14));                                                          \
+                    CHECK(close(a[i], lanes[l].a[i], 1e-13));                                                          \
+                }                                                                                                      \
+                CHECK(close(E, lanes[l].E, 1e-14));                                                                    \
+                for (std::size_t k = 0; k < ne; ++k) CHECK(close(g[k], lanes[l].g[k], 1e-14));                         \
+                if (!L::kVectorMath) {                                                                                 \
+                    CHECK(same_bits(q, lanes[l].q));                                                                   \
+                    CHECK(same_bits(a, lanes[l].a));                                                                   \
+                    CHECK(same_bits(E, lanes[l].E));                                                                   \
+                }                                                                                                      \
+            }                                                                                                          \
+        }                                                                                                              \
+    } while (0)
+
+void same_summary(const RunSummary& a, const RunSummary& b) {
+    CHECK(a.status == b.status);
+    CHECK(a.reason == b.reason);
+    CHECK(same_bits(a.t, b.t));
+    CHECK(same_bits(a.q, b.q));
+    CHECK(same_bits(a.qdot, b.qdot));
+    CHECK(same_bits(a.first_event, b.first_event));
+    CHECK(same_bits(a.max_energy_error, b.max_energy_error));
+}
+
+/// A batch of runs of `sys`: run_many in order, reversed, and one at a time give every run the
+/// same summary and trajectory, bit for bit; run_one agrees to `rel` (status, reason, the
+/// events that fired; bit for bit without libmvec). Returns run_many's summaries.
+std::vector<RunSummary> check_batch(const LagrangianSystem& sys,
+                                    const std::vector<std::vector<std::pair<std::size_t, double>>>& q0,
+                                    const std::vector<std::vector<std::pair<std::size_t, double>>>& v0,
+                                    const RunSettings& settings, double rel) {
+    REQUIRE(sys.rk4_step_values_lanes);
+    const std::size_t count = q0.size();
+    auto many = [&](const std::vector<std::size_t>& order, std::vector<std::string>& rows) {
+        std::vector<RunStart> starts;
+        rows.assign(count, "");
+        for (std::size_t k : order) starts.push_back({q0[k], v0[k], &rows[k]});
+        std::vector<RunSummary> out(order.size()), by_run(count);
+        std::vector<int> calls(order.size(), 0);
+        run_many(sys, starts, settings, out, [&](std::size_t j) { ++calls[j]; });
+        for (int c : calls) CHECK(c == 1); // `finished` once per run
+        for (std::size_t j = 0; j < order.size(); ++j) by_run[order[j]] = out[j];
+        return by_run;
+    };
+    std::vector<std::size_t> forward(count);
+    for (std::size_t k = 0; k < count; ++k) forward[k] = k;
+    std::vector<std::size_t> backward(forward.rbegin(), forward.rend());
+    std::vector<std::string> rows_f, rows_b, rows_1;
+    const std::vector<RunSummary> f = many(forward, rows_f), b = many(backward, rows_b);
+    for (std::size_t k = 0; k < count; ++k) {
+        INFO("run " << k);
+        same_summary(f[k], b[k]);
+        CHECK(rows_f[k] == rows_b[k]);
+        std::vector<std::string> rows_k;
+        const std::vector<RunSummary> one = many({k}, rows_k); // alone (its slot's neighbour repeats it)
+        same_summary(f[k], one[k]);
+        CHECK(rows_f[k] == rows_k[k]);
+        const RunSummary r = run_one(sys, q0[k], v0[k], settings);
+        CHECK(f[k].status == r.status);
+        CHECK(f[k].reason == r.reason);
+        if (r.status != RunSummary::Status::failed) {
+            CHECK(close(f[k].t, r.t, rel));
+            for (std::size_t i = 0; i < r.q.size(); ++i) {
+                CHECK(close(f[k].q[i], r.q[i], rel));
+                CHECK(close(f[k].qdot[i], r.qdot[i], rel));
+            }
+            for (std::size_t e = 0; e < r.first_event.size(); ++e) CHECK(close(f[k].first_event[e], r.first_event[e], rel));
+        }
+        if (!L::kVectorMath) same_summary(f[k], r);
+    }
+    return f;
+}
+
+} // namespace
+
+TEST_CASE("lanes.hpp: each lane is its own function value, wherever it sits and whatever its neighbour holds",
+          "[lanes]") {
+    std::mt19937_64 rng(7);
+    std::uniform_real_distribution<double> d(-40.0, 40.0);
+    const double odd[] = {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity(), 1e300,
+                          -0.0, 1e-310};
+    int checked = 0;
+    for (int k = 0; k < 20000; ++k) {
+        const double x = d(rng), y = k % 7 == 0 ? odd[k / 7 % 5] : d(rng);
+        const L::Lanes a{x, y}, b{y, x}, c{x, x};
+        for (auto f : {+[](L::Lanes v) { return L::sin(v); }, +[](L::Lanes v) { return L::cos(v); },
+                       +[](L::Lanes v) { return L::exp(v * 0.1); }, +[](L::Lanes v) { return L::log(L::fabs(v)); },
+                       +[](L::Lanes v) { return L::pow(L::fabs(v), 1.3); }}) {
+            const L::Lanes fa = f(a), fb = f(b), fc = f(c);
+            CHECK(same_bits(fa[0], fb[1])); // the other lane
+            CHECK(same_bits(fa[0], fc[0])); // another neighbour
+            ++checked;
+        }
+    }
+    CHECK(checked == 100000);
+    // within 4 ulp of the exact value (long double), as libmvec promises; odd sine, even cosine
+    for (int k = 0; k < 20000; ++k) {
+        const double x = d(rng);
+        const L::Lanes s = L::sin(L::Lanes{x, -x}), c = L::cos(L::Lanes{x, -x});
+        const long double es = std::sin(static_cast<long double>(x)), ec = std::cos(static_cast<long double>(x));
+        auto ulp = [](long double e) { return std::nextafter(std::fabs(static_cast<double>(e)), 1e300) - std::fabs(static_cast<double>(e)); };
+        CHECK(std::fabs(static_cast<double>(s[0] - es)) <= 4 * ulp(es));
+        CHECK(std::fabs(static_cast<double>(c[0] - ec)) <= 4 * ulp(ec));
+        CHECK(same_bits(s[1], -s[0]));
+        CHECK(same_bits(c[1], c[0]));
+    }
+    // as<T> keeps −0 (an addition of +0 would not)
+    CHECK(std::signbit(L::as<L::Lanes>(-0.0)[1]));
+    CHECK(std::signbit(L::as<double>(-0.0)));
+}
+
+TEST_CASE("rk4_step_values_lanes: each lane is its run alone, bit for bit, and rk4_step_values to rounding",
+          "[lanes][kernels]") {
+    PHYNJO_LANES_AGREE(flip_pendulum);
+    PHYNJO_LANES_AGREE(pendulum);
+    PHYNJO_LANES_AGREE(driven);
+    PHYNJO_LANES_AGREE(two_balls);
+}
+
+TEST_CASE("run_many: a run's summary and trajectory do not depend on its company, and are run_one's to rounding",
+          "[lanes][ensemble]") {
+    RunSettings settings;
+    settings.every = 5;
+    SECTION("the flip map: flips, runs to the end, a singular and a non-finite start among them") {
+        settings.t_end = 2;
+        std::vector<std::vector<std::pair<std::size_t, double>>> q0, v0;
+        for (double th1 = -3; th1 <= 3; th1 += 1.5)
+            for (double th2 = -3; th2 <= 3; th2 += 2) {
+                q0.push_back({{0, th1}, {1, th2}});
+                v0.push_back({});
+            }
+        q0.push_back({{0, 0.3}});
+        v0.push_back({{0, 1e160}}); // non-finite along the way
+        const std::vector<RunSummary> r = check_batch(flip_pendulum::system({}), q0, v0, settings, 1e-9);
+        int stopped = 0, finished = 0, failed = 0;
+        for (const RunSummary& s : r) {
+            stopped += s.status == RunSummary::Status::stopped;
+            finished += s.status == RunSummary::Status::finished;
+            failed += s.status == RunSummary::Status::failed;
+        }
+        CHECK(stopped > 3);
+        CHECK(finished > 3);
+        CHECK(failed == 1);
+        flip_pendulum::Parameters massless;
+        massless.m2 = 0;
+        const std::vector<RunSummary> s = check_batch(flip_pendulum::system(massless), {{}, {{0, 1.0}}, {}}, {{}, {}, {}}, settings, 1e-9);
+        for (const RunSummary& x : s) CHECK_THAT(x.reason, Catch::Contains("singular"));
+    }
+    SECTION("events with resets: bounces to rest, a reset writing the other ball's velocity, a hold") {
+        settings.t_end = 3;
+        settings.events.rest_speed = 0.05;
+        check_batch(bouncing_ball::system({}), {{}, {{0, 2.0}}, {{0, 0.5}}}, {{}, {}, {{0, 1.0}}}, settings, 1e-9);
+        settings.events.rest_speed = 0;
+        settings.t_end = 2.5;
+        check_batch(two_balls::system({}), {{}, {}, {{0, 1.2}}}, {{{1, 1.5}}, {}, {{1, -0.5}}}, settings, 1e-9);
+        settings.t_end = 6;
+        settings.events.rest_speed = 0.3;
+        check_batch(coupled_balls::system({}), {{}, {{1, 0.8}}}, {{}, {}}, settings, 1e-9);
+    }
+    SECTION("no events, a last step shorter than dt, time-dependent forces") {
+        settings.t_end = 2.355;
+        settings.dt = 0.01;
+        check_batch(pendulum::system({}), {{{0, 2.5}}, {{0, -1.0}}, {{0, 3.0}}}, {{}, {}, {}}, settings, 1e-11);
+        check_batch(driven::system({}), {{}, {{0, 0.2}}}, {{{0, 0.3}}, {}}, settings, 1e-11);
+    }
+}
