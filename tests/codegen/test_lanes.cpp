@@ -191,6 +191,35 @@ std::vector<RunSummary> check_batch(const LagrangianSystem& sys,
     return f;
 }
 
+/// `s` whose evaluations fail where q_0 > limit — accelerations throws there, the kernels
+/// return false — in the scalar functions and the lane kernel alike: a run that fails in the
+/// middle of a sweep, its neighbours healthy.
+LagrangianSystem failing_above(LagrangianSystem s, double limit) {
+    auto acc = s.accelerations;
+    s.accelerations = [acc, limit](double t, std::span<const double> q, std::span<const double> v, std::span<double> a) {
+        if (q[0] > limit) throw NonFiniteResult("synthetic: q0 above the limit");
+        acc(t, q, v, a);
+    };
+    auto aeg = s.accelerations_energy_guards;
+    s.accelerations_energy_guards = [aeg, limit](double t, std::span<const double> q, std::span<const double> v,
+                                                 std::span<double> a, double& E, std::span<double> g) {
+        return aeg(t, q, v, a, E, g) && !(q[0] > limit);
+    };
+    auto rsv = s.rk4_step_values;
+    s.rk4_step_values = [rsv, limit](double t, double h, double t1, std::span<double> q, std::span<double> v,
+                                     std::span<double> a, double& E, std::span<double> g) {
+        return rsv(t, h, t1, q, v, a, E, g) && !(q[0] > limit);
+    };
+    auto lanes = s.rk4_step_values_lanes;
+    s.rk4_step_values_lanes = [lanes, limit](const double* t, const double* h, const double* t1, double* q, double* v,
+                                             double* a, double* E, double* g) {
+        bool ok = lanes(t, h, t1, q, v, a, E, g);
+        for (std::size_t l = 0; l < W; ++l) ok = ok && !(q[l] > limit); // q_0 of lane l
+        return ok;
+    };
+    return s;
+}
+
 } // namespace
 
 TEST_CASE("lanes.hpp: each lane is its own function value, wherever it sits and whatever its neighbour holds",
@@ -265,6 +294,18 @@ TEST_CASE("run_many: a run's summary and trajectory do not depend on its company
         massless.m2 = 0;
         const std::vector<RunSummary> s = check_batch(flip_pendulum::system(massless), {{}, {{0, 1.0}}, {}}, {{}, {}, {}}, settings, 1e-9);
         for (const RunSummary& x : s) CHECK_THAT(x.reason, Catch::Contains("singular"));
+        // runs whose values fail in the middle, beside healthy ones: each decides only its own steps
+        std::vector<std::vector<std::pair<std::size_t, double>>> q1, v1;
+        const double start[][2] = {{0.5, 0.2}, {1.9, 1.5}, {0.7, 0.2}, {1.95, 1.0}, {0.2, 0.2}, {1.0, 0.2}};
+        for (const auto& [th1, w1] : start) {
+            q1.push_back({{0, th1}, {1, 0.3}});
+            v1.push_back({{0, w1}});
+        }
+        const std::vector<RunSummary> u = check_batch(failing_above(flip_pendulum::system({}), 1.99), q1, v1, settings, 1e-9);
+        int synthetic = 0;
+        for (const RunSummary& x : u) synthetic += x.reason.find("synthetic") != std::string::npos;
+        CHECK(synthetic >= 1);
+        CHECK(synthetic <= 4);
     }
     SECTION("events with resets: bounces to rest, a reset writing the other ball's velocity, a hold") {
         settings.t_end = 3;
