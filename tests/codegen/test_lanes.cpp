@@ -5,7 +5,7 @@
 // sine whose lane depends on its neighbour (a run's bits would then depend on the run it was
 // paired with, and a sweep's rows on the thread count); `as` losing −0; run_many giving a
 // run another run's summary or trajectory, leaking one run's state into the next run of its
-// slot, letting a failing run decide its neighbour's step, or depending on the order or the
+// slot, dropping a healthy run's step when its neighbour fails, or depending on the order or the
 // grouping of the runs; run_many drifting from run_one beyond rounding.
 #include "bouncing_ball.hpp"
 #include "coupled_balls.hpp"
