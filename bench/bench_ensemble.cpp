@@ -68,11 +68,8 @@ int main(int argc, char** argv) {
     settings.t_end = t_end;
     settings.dt = dt;
     std::vector<double> v(2);
-    // phynjo: the sweep's runs, one thread, as run_sweep runs them (run_many: lanes of runs when
-    // the model has lane kernels)
-    double flips_p = 0, worst = 0;
-    int disagree = 0;
-    std::vector<double> t_phynjo(plan.size());
+    // phynjo: the sweep's runs, one thread, as run_sweep runs them (run_many), by default and
+    // with --lanes (two or four runs at a time in SIMD registers: `lane_width`)
     std::vector<std::array<std::pair<std::size_t, double>, 2>> q0s(plan.size());
     std::vector<RunStart> starts(plan.size());
     for (std::size_t k = 0; k < plan.size(); ++k) {
@@ -80,32 +77,49 @@ int main(int argc, char** argv) {
         q0s[k] = {{{0, v[0]}, {1, v[1]}}};
         starts[k].q0 = q0s[k];
     }
-    std::vector<RunSummary> summaries(plan.size());
-    const auto t0 = Clock::now();
-    run_many(sys, starts, settings, summaries);
-    for (std::size_t k = 0; k < plan.size(); ++k) {
-        const RunSummary& r = summaries[k];
-        t_phynjo[k] = r.t;
-        flips_p += r.status == RunSummary::Status::stopped;
-        worst = std::max(worst, r.max_energy_error);
-    }
-    const double sec_p = std::chrono::duration<double>(Clock::now() - t0).count();
+    struct Sweep {
+        double sec = 0, flips = 0, worst = 0;
+        std::vector<double> t;
+    };
+    auto sweep = [&](bool lanes) {
+        RunSettings s = settings;
+        s.lanes = lanes;
+        std::vector<RunSummary> summaries(plan.size());
+        Sweep out;
+        const auto t0 = Clock::now();
+        run_many(sys, starts, s, summaries);
+        out.sec = std::chrono::duration<double>(Clock::now() - t0).count();
+        for (const RunSummary& r : summaries) {
+            out.t.push_back(r.t);
+            out.flips += r.status == RunSummary::Status::stopped;
+            out.worst = std::max(out.worst, r.max_energy_error);
+        }
+        return out;
+    };
+    const Sweep plain = sweep(false), lanes = sweep(true);
     // the hand-written loop
     double flips_h = 0;
+    int disagree = 0, disagree_lanes = 0;
     const auto t1 = Clock::now();
     for (std::size_t k = 0; k < plan.size(); ++k) {
         plan.values(k, v);
         const double t = Hand::run(v[0], v[1], dt, t_end);
         flips_h += t < t_end;
-        if (std::abs(t - t_phynjo[k]) > 2 * dt) ++disagree; // chaos: a few may part ways
+        if (std::abs(t - plain.t[k]) > 2 * dt) ++disagree; // chaos: a few may part ways
+        if (std::abs(t - lanes.t[k]) > 2 * dt) ++disagree_lanes;
     }
     const double sec_h = std::chrono::duration<double>(Clock::now() - t1).count();
     const double runs = static_cast<double>(plan.size());
     std::printf("bench_ensemble: flip map %zu x %zu, dt = 1 ms, 10 s cap, one thread\n", n, n);
-    std::printf("    phynjo sweep runs: %8.1f trajectories/s (%.0f flipped; largest energy error %.1e)\n", runs / sec_p,
-                flips_p, worst);
-    std::printf("    hand-written RK4:  %8.1f trajectories/s (%.0f flipped; %d of %zu flip times differ by > 2 dt)\n",
+    std::printf("    phynjo sweep runs:          %8.1f trajectories/s (%.0f flipped; largest energy error %.1e)\n",
+                runs / plain.sec, plain.flips, plain.worst);
+    std::printf("    phynjo sweep runs, --lanes: %8.1f trajectories/s (%zu runs at a time; %.0f flipped; largest energy "
+                "error %.1e; %d flip times differ from the hand loop's by > 2 dt)\n",
+                runs / lanes.sec, sys.lane_width, lanes.flips, lanes.worst, disagree_lanes);
+    std::printf("    hand-written RK4:           %8.1f trajectories/s (%.0f flipped; %d of %zu flip times differ by > 2 dt)\n",
                 runs / sec_h, flips_h, disagree, plan.size());
+    std::printf("ratio ensemble_flipmap_hand_lanes = %.2f\n", sec_h / lanes.sec);
+    const double sec_p = plain.sec;
     std::printf("ratio ensemble_flipmap_hand = %.2f\n", sec_h / sec_p);
     std::fflush(stdout);
     // SciPy on a sample of the same runs

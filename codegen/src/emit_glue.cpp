@@ -37,6 +37,7 @@ std::string emit_glue(const Model& m, bool mass_depends_on_velocities) {
       << (has_lane_kernel(m) ? "    s.rk4_step_values_lanes = [get](const double* t, const double* h, const double* t1, double* q,\n"
                                "                                    double* v, double* a, double* E, double* g) {\n"
                                "        return rk4_step_values_lanes(get(), t, h, t1, q, v, a, E, g);\n    };\n"
+                               "    s.lane_width = phynjo::runtime::lanes::kWidth;\n"
                              : "")
       << "    s.initial_state = [get](std::span<double> q, std::span<double> v) { initial_state(get(), q, v); };\n"
       << "    s.n_constraints = n_constraints;\n"

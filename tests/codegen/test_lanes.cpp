@@ -150,6 +150,8 @@ std::vector<RunSummary> check_batch(const LagrangianSystem& sys,
                                     const std::vector<std::vector<std::pair<std::size_t, double>>>& v0,
                                     const RunSettings& settings, double rel) {
     REQUIRE(sys.rk4_step_values_lanes);
+    CHECK(sys.lane_width == W); // the model's width, as compiled (the same flags here)
+    REQUIRE(settings.lanes);
     const std::size_t count = q0.size();
     auto many = [&](const std::vector<std::size_t>& order, std::vector<std::string>& rows) {
         std::vector<RunStart> starts;
@@ -176,6 +178,14 @@ std::vector<RunSummary> check_batch(const LagrangianSystem& sys,
         same_summary(f[k], one[k]);
         CHECK(rows_f[k] == rows_k[k]);
         const RunSummary r = run_one(sys, q0[k], v0[k], settings);
+        { // without lanes, run_many is run_one
+            RunSettings plain = settings;
+            plain.lanes = false;
+            std::vector<RunSummary> p(1);
+            const RunStart start{q0[k], v0[k]};
+            run_many(sys, std::span<const RunStart>(&start, 1), plain, p);
+            same_summary(p[0], r);
+        }
         CHECK(f[k].status == r.status);
         CHECK(f[k].reason == r.reason);
         if (r.status != RunSummary::Status::failed) {
@@ -211,10 +221,10 @@ LagrangianSystem failing_above(LagrangianSystem s, double limit) {
         return rsv(t, h, t1, q, v, a, E, g) && !(q[0] > limit);
     };
     auto lanes = s.rk4_step_values_lanes;
-    s.rk4_step_values_lanes = [lanes, limit](const double* t, const double* h, const double* t1, double* q, double* v,
-                                             double* a, double* E, double* g) {
+    s.rk4_step_values_lanes = [lanes, limit, width = s.lane_width](const double* t, const double* h, const double* t1,
+                                                                   double* q, double* v, double* a, double* E, double* g) {
         bool ok = lanes(t, h, t1, q, v, a, E, g);
-        for (std::size_t l = 0; l < W; ++l) ok = ok && !(q[l] > limit); // q_0 of lane l
+        for (std::size_t l = 0; l < width; ++l) ok = ok && !(q[l] > limit); // q_0 of lane l
         return ok;
     };
     return s;
@@ -231,7 +241,12 @@ TEST_CASE("lanes.hpp: each lane is its own function value, wherever it sits and 
     int checked = 0;
     for (int k = 0; k < 20000; ++k) {
         const double x = d(rng), y = k % 7 == 0 ? odd[k / 7 % 5] : d(rng);
-        const L::Lanes a{x, y}, b{y, x}, c{x, x};
+        L::Lanes a{}, b{}, c{};
+        for (std::size_t l = 0; l < W; ++l) {
+            a[l] = l == 0 ? x : y;
+            b[l] = l == 1 ? x : y;
+            c[l] = x;
+        }
         for (auto f : {+[](L::Lanes v) { return L::sin(v); }, +[](L::Lanes v) { return L::cos(v); },
                        +[](L::Lanes v) { return L::exp(v * 0.1); }, +[](L::Lanes v) { return L::log(L::fabs(v)); },
                        +[](L::Lanes v) { return L::pow(L::fabs(v), 1.3); }}) {
@@ -245,7 +260,9 @@ TEST_CASE("lanes.hpp: each lane is its own function value, wherever it sits and 
     // within 4 ulp of the exact value (long double), as libmvec promises; odd sine, even cosine
     for (int k = 0; k < 20000; ++k) {
         const double x = d(rng);
-        const L::Lanes s = L::sin(L::Lanes{x, -x}), c = L::cos(L::Lanes{x, -x});
+        L::Lanes arg{};
+        for (std::size_t l = 0; l < W; ++l) arg[l] = l % 2 ? -x : x;
+        const L::Lanes s = L::sin(arg), c = L::cos(arg);
         const long double es = std::sin(static_cast<long double>(x)), ec = std::cos(static_cast<long double>(x));
         auto ulp = [](long double e) { return std::nextafter(std::fabs(static_cast<double>(e)), 1e300) - std::fabs(static_cast<double>(e)); };
         CHECK(std::fabs(static_cast<double>(s[0] - es)) <= 4 * ulp(es));
@@ -270,6 +287,7 @@ TEST_CASE("run_many: a run's summary and trajectory do not depend on its company
           "[lanes][ensemble]") {
     RunSettings settings;
     settings.every = 5;
+    settings.lanes = true;
     SECTION("the flip map: flips, runs to the end, a singular and a non-finite start among them") {
         settings.t_end = 2;
         std::vector<std::vector<std::pair<std::size_t, double>>> q0, v0;

@@ -97,6 +97,16 @@ diff -r "$work/t1" "$work/t3" > /dev/null && ok "trajectories: the same files on
 cmp -s "$work/one0.csv" "$work/t1/run_00.csv" && ok "run 0 (stopped by a flip): one run's --output" || bad "run_00 differs from one run"
 grep -q "^18,-1,1,finished," "$work/t1.csv" && cmp -s "$work/one18.csv" "$work/t1/run_18.csv" \
   && ok "run 18 (th1 = -1, th2 = 1, finished): one run's --output" || bad "run_18 differs from one run"
+# --lanes: runs two or four at a time in SIMD registers — the same bytes on 1 and 3 threads (a
+# run's bits do not depend on its neighbours), the same statuses as without, its signature
+# its own (a summary without --lanes is not resumed with it)
+"$sim" "${tr[@]}" --lanes --summary "$work/l1.csv" --trajectories "$work/l1"
+"$sim" "${tr[@]}" --lanes --summary "$work/l3.csv" --trajectories "$work/l3" --threads 3
+cmp -s <(tail -n +2 "$work/l1.csv") <(tail -n +2 "$work/l3.csv") && diff -r "$work/l1" "$work/l3" > /dev/null \
+  && ok "--lanes: the same summary and trajectories on 1 and 3 threads" || bad "--lanes differs with threads"
+[ "$(cut -d, -f1-4 "$work/l1.csv" | tail -n +3)" = "$(cut -d, -f1-4 "$work/t1.csv" | tail -n +3)" ] \
+  && ok "--lanes: the statuses of the sweep without it" || bad "--lanes: other statuses"
+head -1 "$work/l1.csv" | grep -q -- "--lanes" && ok "--lanes: in the summary's signature" || bad "--lanes not in the signature"
 awk -F, 'NR > 1 { if (abs($1 - 0.05 * (NR - 2)) > 1e-12) bad = 1 } END { exit bad || NR != 42 }
   function abs(v) { return v < 0 ? -v : v }' "$work/t1/run_18.csv" && ok "--every 50: 41 rows at t = 0.05 k" || bad "every"
 # a sweep into tp killed after 30 runs: its summary's first 30 rows and their trajectories

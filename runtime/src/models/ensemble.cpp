@@ -482,22 +482,23 @@ void run_many(const LagrangianSystem& sys, std::span<const RunStart> starts, con
     if (out.size() != starts.size())
         throw std::invalid_argument("run_many: " + std::to_string(starts.size()) + " runs but " +
                                     std::to_string(out.size()) + " summaries");
-    if (!fast_path(sys, settings) || !sys.rk4_step_values_lanes) {
+    if (!settings.lanes || !fast_path(sys, settings) || !sys.rk4_step_values_lanes) {
         for (std::size_t k = 0; k < starts.size(); ++k) {
             out[k] = run_one(sys, starts[k].q0, starts[k].v0, settings, starts[k].trajectory);
             if (finished) finished(k);
         }
         return;
     }
-    // kWidth slots, each holding a run until it is over, then the next run in order. Each call
+    // lane_width slots, each holding a run until it is over, then the next run in order. Each call
     // of the lane kernel steps every slot's run once; an empty slot repeats an occupied one
     // (its results unused). A lane's results depend on its own operands only, so a run's bits
     // do not depend on the company it keeps.
-    constexpr std::size_t W = lanes::kWidth;
+    const std::size_t W = sys.lane_width; // the width the model's code was compiled with
+    if (W == 0) throw std::invalid_argument("run_many: the system's rk4_step_values_lanes has lane_width 0");
     const std::size_t n = sys.dof, ne = sys.n_events;
-    std::array<std::unique_ptr<FastRun>, W> slot;
-    std::array<std::size_t, W> index{};
-    std::array<const KernelCall*, W> call{};
+    std::vector<std::unique_ptr<FastRun>> slot(W);
+    std::vector<std::size_t> index(W);
+    std::vector<const KernelCall*> call(W);
     std::vector<double> t(W), h(W), t1(W), q(n * W), v(n * W), a(n * W), e(W), g(ne * W);
     std::size_t next = 0;
     auto retire = [&](std::size_t l) {

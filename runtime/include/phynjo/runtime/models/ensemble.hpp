@@ -68,6 +68,10 @@ struct RunSettings {
     EventOptions events;
     ProjectionOptions projection;
     long every = 1; ///< a trajectory's rows: every `every`-th step (the first and last always)
+    /// run_many (a sweep's runs) steps lane_width runs at a time in the lanes of SIMD registers
+    /// where the model has lane kernels (simulators: --lanes). Off by default: a run's sines
+    /// are then libmvec's, agreeing with one run's (--output) to rounding, not bit for bit.
+    bool lanes = false;
 };
 
 /// One run from the system's initial state with the initial values `q0` and `v0` set
@@ -88,9 +92,9 @@ struct RunStart {
 };
 
 /// The runs `starts` of one system on this thread, their summaries in `out` (same size), as
-/// run_one gives them — but, when the model has generated lane kernels
-/// (`rk4_step_values_lanes`: rk4, no constraints, one or two coordinates), lanes::kWidth runs
-/// at a time in the lanes of SIMD registers (runtime/models/lanes.hpp): then a run's sines and
+/// run_one gives them — but, with `settings.lanes` and when the model has generated lane
+/// kernels (`rk4_step_values_lanes`: rk4, no constraints, one or two coordinates), lane_width
+/// runs at a time in the lanes of SIMD registers (runtime/models/lanes.hpp): then a run's sines and
 /// cosines are libmvec's, so its summary agrees with run_one's to rounding, not bit for bit.
 /// Either way a run's summary depends on that run alone: not on the other runs, their order,
 /// or which of them shared its registers. `finished(k)`, when given, is called as soon as run

@@ -58,13 +58,15 @@ struct LagrangianSystem {
     std::function<bool(double t, double h, double t1, std::span<double> q, std::span<double> qdot, std::span<double> qddot,
                        double& E, std::span<double> g)>
         rk4_step_values;
-    /// rk4_step_values for lanes::kWidth runs at once (generated `rk4_step_values_lanes`, for
+    /// rk4_step_values for lane_width runs at once (generated `rk4_step_values_lanes`, for
     /// models without constraints of one or two coordinates): arrays by component, run l's
-    /// q_i at q[i*kWidth + l]; false when some run's values failed; throws what
+    /// q_i at q[i*lane_width + l]; false when some run's values failed; throws what
     /// rk4_step_values throws for some run. Empty when the model has none.
     std::function<bool(const double* t, const double* h, const double* t1, double* q, double* qdot, double* qddot,
                        double* E, double* g)>
         rk4_step_values_lanes;
+    /// The runs per call of rk4_step_values_lanes (lanes::kWidth where the model was compiled).
+    std::size_t lane_width = 0;
 
     // (v2) Constraints (lag-format.md, *Constraints*), file order; none when n_constraints = 0.
     std::size_t n_constraints = 0;

@@ -23,29 +23,46 @@
 #include <cstdint>
 #include <cstring>
 
-#if defined(PHYNJO_LIBMVEC) && defined(__x86_64__) && defined(__SSE2__)
+#if defined(PHYNJO_LIBMVEC) && defined(__x86_64__) && defined(__AVX2__)
+#include <immintrin.h>
+extern "C" {
+// glibc's libmvec (2.22), AVX2 variants: four doubles in, four out.
+__m256d _ZGVdN4v_sin(__m256d) noexcept __attribute__((const));
+__m256d _ZGVdN4v_cos(__m256d) noexcept __attribute__((const));
+__m256d _ZGVdN4v_exp(__m256d) noexcept __attribute__((const));
+__m256d _ZGVdN4v_log(__m256d) noexcept __attribute__((const));
+__m256d _ZGVdN4vv_pow(__m256d, __m256d) noexcept __attribute__((const));
+}
+#define PHYNJO_LANES_LIBMVEC 4
+#elif defined(PHYNJO_LIBMVEC) && defined(__x86_64__) && defined(__SSE2__)
 #include <emmintrin.h>
 extern "C" {
-// glibc's libmvec (2.22: sin, cos, exp, log, pow; 2.35: the others), SSE2 variants: two
-// doubles in, two out.
+// glibc's libmvec (2.22), SSE2 variants (every x86-64 CPU): two doubles in, two out.
 __m128d _ZGVbN2v_sin(__m128d) noexcept __attribute__((const));
 __m128d _ZGVbN2v_cos(__m128d) noexcept __attribute__((const));
 __m128d _ZGVbN2v_exp(__m128d) noexcept __attribute__((const));
 __m128d _ZGVbN2v_log(__m128d) noexcept __attribute__((const));
 __m128d _ZGVbN2vv_pow(__m128d, __m128d) noexcept __attribute__((const));
 }
-#define PHYNJO_LANES_LIBMVEC 1
+#define PHYNJO_LANES_LIBMVEC 2
 #endif
 
 namespace phynjo::runtime::lanes {
 
-/// Runs per register.
+/// Runs per register: 4 where the code is compiled for AVX2 with libmvec (-march=native on
+/// most x86-64 machines of the last decade), else 2. Generated code's lane kernels use the
+/// width they were compiled with and say it in LagrangianSystem::lane_width, which run_many
+/// reads: the runtime and a model compiled with other flags still agree.
+#if defined(PHYNJO_LANES_LIBMVEC) && PHYNJO_LANES_LIBMVEC == 4
+inline constexpr std::size_t kWidth = 4;
+#else
 inline constexpr std::size_t kWidth = 2;
+#endif
 /// kWidth doubles, one per run (GCC/Clang vector extension: + − × ÷ lane by lane, a scalar
 /// operand broadcast).
-using Lanes = double __attribute__((vector_size(16)));
+using Lanes = double __attribute__((vector_size(kWidth * sizeof(double))));
 /// A comparison of Lanes: −1 (true) or 0 per lane.
-using Mask = std::int64_t __attribute__((vector_size(16)));
+using Mask = std::int64_t __attribute__((vector_size(kWidth * sizeof(double))));
 
 /// True when Lanes' transcendental functions are libmvec's.
 inline constexpr bool kVectorMath =
@@ -86,7 +103,13 @@ inline Lanes each(Lanes x, F f) {
 }
 } // namespace detail
 
-#if defined(PHYNJO_LANES_LIBMVEC)
+#if defined(PHYNJO_LANES_LIBMVEC) && PHYNJO_LANES_LIBMVEC == 4
+inline Lanes sin(Lanes x) { return (Lanes)_ZGVdN4v_sin((__m256d)x); }
+inline Lanes cos(Lanes x) { return (Lanes)_ZGVdN4v_cos((__m256d)x); }
+inline Lanes exp(Lanes x) { return (Lanes)_ZGVdN4v_exp((__m256d)x); }
+inline Lanes log(Lanes x) { return (Lanes)_ZGVdN4v_log((__m256d)x); }
+inline Lanes pow(Lanes x, Lanes y) { return (Lanes)_ZGVdN4vv_pow((__m256d)x, (__m256d)y); }
+#elif defined(PHYNJO_LANES_LIBMVEC)
 inline Lanes sin(Lanes x) { return (Lanes)_ZGVbN2v_sin((__m128d)x); }
 inline Lanes cos(Lanes x) { return (Lanes)_ZGVbN2v_cos((__m128d)x); }
 inline Lanes exp(Lanes x) { return (Lanes)_ZGVbN2v_exp((__m128d)x); }
@@ -103,8 +126,13 @@ inline Lanes pow(Lanes x, Lanes y) {
     return r;
 }
 #endif
-inline Lanes pow(Lanes x, double y) { return pow(x, Lanes{y, y}); }
-inline Lanes pow(double x, Lanes y) { return pow(Lanes{x, x}, y); }
+inline Lanes splat(double x) {
+    Lanes r{};
+    for (std::size_t l = 0; l < kWidth; ++l) r[l] = x;
+    return r;
+}
+inline Lanes pow(Lanes x, double y) { return pow(x, splat(y)); }
+inline Lanes pow(double x, Lanes y) { return pow(splat(x), y); }
 // the functions libmvec added in glibc 2.35, lane by lane with libm (the same bits as one run)
 inline Lanes tan(Lanes x) { return detail::each(x, [](double v) { return std::tan(v); }); }
 inline Lanes asin(Lanes x) { return detail::each(x, [](double v) { return std::asin(v); }); }
@@ -119,8 +147,8 @@ inline Lanes atan2(Lanes y, Lanes x) {
     for (std::size_t l = 0; l < kWidth; ++l) r[l] = std::atan2(y[l], x[l]);
     return r;
 }
-inline Lanes atan2(Lanes y, double x) { return atan2(y, Lanes{x, x}); }
-inline Lanes atan2(double y, Lanes x) { return atan2(Lanes{y, y}, x); }
+inline Lanes atan2(Lanes y, double x) { return atan2(y, splat(x)); }
+inline Lanes atan2(double y, Lanes x) { return atan2(splat(y), x); }
 inline Lanes fabs(Lanes x) { return detail::each(x, [](double v) { return std::fabs(v); }); }
 inline Lanes sign(Lanes x) { return detail::each(x, [](double v) { return v > 0 ? 1.0 : v < 0 ? -1.0 : 0.0; }); }
 inline bool any(Mask m) {
@@ -138,7 +166,7 @@ inline bool not_finite(Lanes x) {
 template <class T>
 inline T as(double x) {
     if constexpr (sizeof(T) == sizeof(double)) return x;
-    else return T{x, x};
+    else return splat(x);
 }
 template <class T>
 inline T as(Lanes x) {
