@@ -20,6 +20,7 @@
 #include "two_balls.hpp"
 
 #include "phynjo/runtime/models/ensemble.hpp"
+#include "same_bits.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -30,13 +31,11 @@
 #include <vector>
 
 using namespace phynjo::runtime;
+using phynjo::test::same_bits;
+using phynjo::test::same_summary;
 
 namespace {
 
-bool same_bits(std::span<const double> a, std::span<const double> b) {
-    return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0);
-}
-bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
 /// The system without the fused kernels: the integrators and run_one take their generic paths.
 LagrangianSystem generic(LagrangianSystem s) {
@@ -113,16 +112,6 @@ std::pair<std::vector<double>, std::vector<double>> workflow_step(const Lagrangi
             CHECK(same_bits(g3, g4));                                                                                  \
         }                                                                                                              \
     } while (0)
-
-void same_summary(const RunSummary& a, const RunSummary& b) {
-    CHECK(a.status == b.status);
-    CHECK(a.reason == b.reason);
-    CHECK(same_bits(a.t, b.t));
-    CHECK(same_bits(a.q, b.q));
-    CHECK(same_bits(a.qdot, b.qdot));
-    CHECK(same_bits(a.first_event, b.first_event));
-    CHECK(same_bits(a.max_energy_error, b.max_energy_error));
-}
 
 /// run_one on the kernels and on the workflow: the same summary and trajectory.
 RunSummary same_runs(const LagrangianSystem& s, std::vector<std::pair<std::size_t, double>> q0,

@@ -15,6 +15,7 @@
 #include "two_balls.hpp"
 
 #include "phynjo/runtime/models/ensemble.hpp"
+#include "same_bits.hpp"
 #include "phynjo/runtime/models/lanes.hpp"
 
 #include <catch2/catch.hpp>
@@ -28,15 +29,13 @@
 #include <vector>
 
 using namespace phynjo::runtime;
+using phynjo::test::same_bits;
+using phynjo::test::same_summary;
 namespace L = phynjo::runtime::lanes;
 constexpr std::size_t W = L::kWidth;
 
 namespace {
 
-bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
-bool same_bits(std::span<const double> a, std::span<const double> b) {
-    return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0);
-}
 /// |a − b| within `rel` of max(1, |a|) (rounding: libmvec's functions against libm's).
 bool close(double a, double b, double rel) {
     if (std::isnan(a) || std::isnan(b)) return std::isnan(a) && std::isnan(b);
@@ -131,16 +130,6 @@ bool call_lanes(Fn&& kernel, std::vector<LaneState>& lanes, std::size_t n, std::
             }                                                                                                          \
         }                                                                                                              \
     } while (0)
-
-void same_summary(const RunSummary& a, const RunSummary& b) {
-    CHECK(a.status == b.status);
-    CHECK(a.reason == b.reason);
-    CHECK(same_bits(a.t, b.t));
-    CHECK(same_bits(a.q, b.q));
-    CHECK(same_bits(a.qdot, b.qdot));
-    CHECK(same_bits(a.first_event, b.first_event));
-    CHECK(same_bits(a.max_energy_error, b.max_energy_error));
-}
 
 /// A batch of runs of `sys`: run_many in order, reversed, and one at a time give every run the
 /// same summary and trajectory, bit for bit; run_one agrees to `rel` (status, reason, the
