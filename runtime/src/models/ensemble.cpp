@@ -11,7 +11,6 @@
 
 #include <algorithm>
 #include <memory>
-#include <array>
 #include <charconv>
 #include <chrono>
 #include <cmath>
@@ -155,7 +154,8 @@ struct StepPlan {
 
 /// run_one's path through generated code's fused kernels, one kernel call at a time: next()
 /// says which call the run needs (or that it is over), done() takes its result — so that the
-/// caller makes the calls, alone or (later) with other runs' in the lanes of one call. The
+/// caller makes the calls, alone (run_one) or with other runs' in the lanes of one call
+/// (run_many). The
 /// state (q, q', the q'' at its start, E, the guards) is the run's own; the event monitor and
 /// `record` (after each whole step: the finite check, the energy error, a trajectory row) are
 /// run_one's. Exceptions leave next() and done() where run_one's loop threw them.

@@ -12,7 +12,7 @@
 /// log, pow, atan2 … are glibc's libmvec vector kernels (x86-64, `PHYNJO_LIBMVEC`, set by
 /// CMake when libmvec links), else the <cmath> function lane by lane.
 ///
-/// What the sweep relies on (tests/runtime/test_lanes.cpp): a lane's result depends on its own
+/// What the sweep relies on (tests/codegen/test_lanes.cpp): a lane's result depends on its own
 /// operands only — the same bits whatever the other lanes hold (huge, NaN, another run) — so
 /// a run's summary row does not depend on which runs shared its register, nor on the thread
 /// or rank count. libmvec's results are not libm's (within 4 ulp of the exact value, against
