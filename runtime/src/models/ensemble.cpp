@@ -152,17 +152,67 @@ struct StepPlan {
     double dt, t_end;
 };
 
+/// A run's bookkeeping, whichever path steps it (run_one's workflow paths, FastRun): the
+/// first trajectory row, then after each whole step the state finite, the energy error
+/// |E − E(0)| / max(1, |E(0)|) and a row every `every`-th step and at the last; at the end
+/// the events' first times and a stop's reason.
+class RunRecorder {
+public:
+    RunRecorder(const World& w, RunSummary& r, long every, std::string* trajectory)
+        : w_(w), r_(r), trajectory_(trajectory), q_(w.field(kGQ).data()), v_(w.field(kGV).data()), dof_(w.field(kGQ).size()),
+          every_(std::max(1L, every)) {}
+    /// At the initial state: E(0) = `e0`, the first row.
+    void begin(double e0) {
+        e0_ = e0;
+        scale_ = std::max(1.0, std::abs(e0));
+        if (trajectory_) row(e0);
+    }
+    /// After whole step `k` (the last one when `last_step`), E there = `e`.
+    void operator()(long k, bool last_step, double e) {
+        for (std::size_t i = 0; i < dof_; ++i)
+            if (!std::isfinite(q_[i]) || !std::isfinite(v_[i])) throw Error("the state is not finite");
+        r_.max_energy_error = std::max(r_.max_energy_error, std::abs(e - e0_) / scale_);
+        if (trajectory_ && (last_step || k % every_ == 0)) row(e);
+    }
+    /// The run is over without an error: the events' first times, a stop's reason.
+    void complete(const LagrangianSystem& sys, const EventMonitor& monitor) {
+        for (const EventRecord& e : monitor.log())
+            if (std::isnan(r_.first_event[e.event])) r_.first_event[e.event] = e.time;
+        if (monitor.stopped() && !monitor.log().empty()) {
+            r_.status = RunSummary::Status::stopped;
+            r_.reason = "event " + sys.event_names[monitor.log().back().event];
+        }
+    }
+
+private:
+    void row(double e) {
+        std::string& out = *trajectory_;
+        append_number(out, w_.time);
+        for (std::size_t i = 0; i < dof_; ++i) out += ',', append_number(out, q_[i]);
+        for (std::size_t i = 0; i < dof_; ++i) out += ',', append_number(out, v_[i]);
+        out += ',', append_number(out, e);
+        out += '\n';
+    }
+    const World& w_;
+    RunSummary& r_;
+    std::string* trajectory_;
+    const double* q_;
+    const double* v_;
+    std::size_t dof_;
+    long every_;
+    double e0_ = 0, scale_ = 1;
+};
+
 /// run_one's path through generated code's fused kernels, one kernel call at a time: next()
 /// says which call the run needs (or that it is over), done() takes its result — so that the
 /// caller makes the calls, alone (run_one) or with other runs' in the lanes of one call
 /// (run_many). The
 /// state (q, q', the q'' at its start, E, the guards) is the run's own; the event monitor and
-/// `record` (after each whole step: the finite check, the energy error, a trajectory row) are
-/// run_one's. Exceptions leave next() and done() where run_one's loop threw them.
-template <class Record>
+/// the RunRecorder (after each whole step) are run_one's. Exceptions leave next() and done()
+/// where run_one's loop threw them.
 class KernelRun {
 public:
-    KernelRun(const LagrangianSystem& sys, World& w, EventMonitor& monitor, StepPlan plan, Record& record)
+    KernelRun(const LagrangianSystem& sys, World& w, EventMonitor& monitor, StepPlan plan, RunRecorder& record)
         : sys_(sys), w_(w), monitor_(monitor), plan_(plan), record_(record), q_(w.field(kGQ)), v_(w.field(kGV)),
           a_(sys.dof), a0_(sys.dof), g_(sys.n_events), with_events_(sys.n_events > 0) {
         ok_ = sys.accelerations_energy_guards(w.time, q_, v_, a_, e_, g_); // false: accelerations throws there
@@ -240,7 +290,7 @@ private:
     World& w_;
     EventMonitor& monitor_;
     StepPlan plan_;
-    Record& record_;
+    RunRecorder& record_;
     std::span<double> q_, v_;
     std::vector<double> a_, a0_, g_;
     double e_ = 0;
@@ -260,20 +310,17 @@ class FastRun {
 public:
     FastRun(const LagrangianSystem& sys, std::span<const std::pair<std::size_t, double>> q0,
             std::span<const std::pair<std::size_t, double>> v0, const RunSettings& settings, std::string* trajectory)
-        : sys_(sys), trajectory_(trajectory), w_(make_lagrangian_world(sys)) {
+        : sys_(sys), w_(make_lagrangian_world(sys)), record_(w_, r_, settings.every, trajectory) {
         r_.first_event.assign(sys.n_events, std::numeric_limits<double>::quiet_NaN());
         for (const auto& [i, v] : q0) w_.at(kGQ, static_cast<Index>(i)) = v;
         for (const auto& [i, v] : v0) w_.at(kGV, static_cast<Index>(i)) = v;
         try {
-            e0_ = sys.energy(0, w_.field(kGQ), w_.field(kGV));
-            scale_ = std::max(1.0, std::abs(e0_));
+            record_.begin(sys.energy(0, w_.field(kGQ), w_.field(kGV)));
             const long steps = detail::whole_steps(settings.t_end, settings.dt);
             const double last = settings.t_end - static_cast<double>(steps) * settings.dt;
             const long total = steps + (last > 1e-9 * settings.dt ? 1 : 0);
             monitor_.emplace(sys, settings.events);
-            every_ = std::max(1L, settings.every);
-            if (trajectory_) row(e0_);
-            run_.emplace(sys, w_, *monitor_, StepPlan{steps, last, total, settings.dt, settings.t_end}, *this);
+            run_.emplace(sys, w_, *monitor_, StepPlan{steps, last, total, settings.dt, settings.t_end}, record_);
         } catch (const std::exception& e) {
             fail(e);
         }
@@ -286,7 +333,10 @@ public:
         if (over_) return nullptr;
         try {
             const KernelCall* c = run_->next();
-            if (!c) complete();
+            if (!c) {
+                over_ = true;
+                record_.complete(sys_, *monitor_);
+            }
             return c;
         } catch (const std::exception& e) {
             fail(e);
@@ -320,45 +370,13 @@ public:
     double& energy() noexcept { return run_->energy(); }
     std::span<double> guards() noexcept { return run_->guards(); }
 
-    /// After each whole step (KernelRun's Record): the state finite, the energy error (E from
-    /// the step's kernel), a trajectory row.
-    void operator()(long k, bool last_step, double e) {
-        const double* const wq = w_.field(kGQ).data();
-        const double* const wv = w_.field(kGV).data();
-        for (std::size_t i = 0; i < sys_.dof; ++i)
-            if (!std::isfinite(wq[i]) || !std::isfinite(wv[i])) throw Error("the state is not finite");
-        r_.max_energy_error = std::max(r_.max_energy_error, std::abs(e - e0_) / scale_);
-        if (trajectory_ && (last_step || k % every_ == 0)) row(e);
-    }
-
 private:
-    void row(double e) {
-        std::string& out = *trajectory_;
-        append_number(out, w_.time);
-        for (double x : w_.field(kGQ)) out += ',', append_number(out, x);
-        for (double x : w_.field(kGV)) out += ',', append_number(out, x);
-        out += ',', append_number(out, e);
-        out += '\n';
-    }
-    /// The run is over without an error: the events' first times, a stop's reason.
-    void complete() {
-        over_ = true;
-        for (const EventRecord& e : monitor_->log())
-            if (std::isnan(r_.first_event[e.event])) r_.first_event[e.event] = e.time;
-        if (monitor_->stopped() && !monitor_->log().empty()) {
-            r_.status = RunSummary::Status::stopped;
-            r_.reason = "event " + sys_.event_names[monitor_->log().back().event];
-        }
-    }
-
     const LagrangianSystem& sys_;
-    std::string* trajectory_;
     RunSummary r_;
     World w_;
+    RunRecorder record_;
     std::optional<EventMonitor> monitor_;
-    std::optional<KernelRun<FastRun>> run_;
-    double e0_ = 0, scale_ = 1;
-    long every_ = 1;
+    std::optional<KernelRun> run_;
     bool over_ = false;
 };
 
@@ -403,32 +421,14 @@ RunSummary run_one(const LagrangianSystem& sys, std::span<const std::pair<std::s
     };
     try {
         if (sys.n_constraints > 0) check_constraints(sys, 0, w.field(kGQ), w.field(kGV));
-        const double e0 = sys.energy(0, w.field(kGQ), w.field(kGV)), scale = std::max(1.0, std::abs(e0));
+        RunRecorder record(w, r, settings.every, trajectory);
+        record.begin(sys.energy(0, w.field(kGQ), w.field(kGV)));
         const long steps = detail::whole_steps(settings.t_end, settings.dt);
         const double last = settings.t_end - static_cast<double>(steps) * settings.dt;
         const long total = steps + (last > 1e-9 * settings.dt ? 1 : 0);
         EventMonitor monitor(sys, settings.events);
         const bool with_events = sys.n_events > 0;
-        const long every = std::max(1L, settings.every);
-        auto row = [&](double e) {
-            append_number(*trajectory, w.time);
-            for (double x : w.field(kGQ)) *trajectory += ',', append_number(*trajectory, x);
-            for (double x : w.field(kGV)) *trajectory += ',', append_number(*trajectory, x);
-            *trajectory += ',', append_number(*trajectory, e);
-            *trajectory += '\n';
-        };
-        if (trajectory) row(e0);
-        // after each step: the state finite, the energy error (E there, from the step's kernel
-        // or from `energy`: the same bits)
-        const double* const wq = w.field(kGQ).data();
-        const double* const wv = w.field(kGV).data();
-        const std::size_t dof = sys.dof;
-        auto record = [&](long k, bool last_step, double e) {
-            for (std::size_t i = 0; i < dof; ++i)
-                if (!std::isfinite(wq[i]) || !std::isfinite(wv[i])) throw Error("the state is not finite");
-            r.max_energy_error = std::max(r.max_energy_error, std::abs(e - e0) / scale);
-            if (trajectory && (last_step || k % every == 0)) row(e);
-        };
+        // after each step: E there from `energy` (the kernels' E: the same bits)
         auto after_step = [&](long k, bool last_step) {
             record(k, last_step, sys.energy(w.time, w.field(kGQ), w.field(kGV)));
         };
@@ -463,12 +463,7 @@ RunSummary run_one(const LagrangianSystem& sys, std::span<const std::pair<std::s
                                                                 : lagrangian_rattle(sys, w.layout_ptr(), settings.projection));
             drive([&](double t, double h) { stepper.step(w, h); w.time = t; }, nullptr);
         }
-        for (const EventRecord& e : monitor.log())
-            if (std::isnan(r.first_event[e.event])) r.first_event[e.event] = e.time;
-        if (monitor.stopped() && !monitor.log().empty()) {
-            r.status = RunSummary::Status::stopped;
-            r.reason = "event " + sys.event_names[monitor.log().back().event];
-        }
+        record.complete(sys, monitor);
     } catch (const std::exception& e) {
         r.status = RunSummary::Status::failed;
         r.reason = e.what();
