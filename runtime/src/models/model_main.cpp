@@ -44,7 +44,7 @@ void help(const char* prog, const ModelCommandLine& model, const LagrangianSyste
                 "          [--projection-tolerance TOL] [--rtol R] [--atol A]\n"
                 "          [--events FILE] [--rest-speed V] [--max-events-per-step N] [--shapes FILE]\n"
                 "       %s --grid NAME=LO:HI:N... [--uniform NAME=LO:HI... --samples K [--seed S]]\n"
-                "          --summary FILE [--trajectories DIR [--every K]] [--threads N] [--lanes] [the options of one run]\n"
+                "          --summary FILE [--trajectories DIR [--every K]] [--threads N] [--no-lanes] [the options of one run]\n"
                 "Simulates the model %.*s from its initial state and writes CSV: t, q..., q'..., E\n"
                 "(and, for a model with constraints, their multipliers lambda_NAME...).\n"
                 "  --t-end T              end time in s (default 10); the run ends exactly at T\n"
@@ -104,9 +104,12 @@ void help(const char* prog, const ModelCommandLine& model, const LagrangianSyste
                 "                         made if missing): t, q..., q'..., E, every K-th step (--every K;\n"
                 "                         default: about 5000 rows), the first and the last always\n"
                 "  --threads N            run the sweep on N threads (default 1)\n"
-                "  --lanes                step the runs two or four at a time in SIMD registers (models of\n"
-                "                         one or two coordinates, rk4): faster; their sines and cosines\n"
-                "                         then agree with one run's to rounding, not bit for bit\n"
+                "  --no-lanes             step the runs one at a time; by default (--lanes) a thread steps\n"
+                "                         them two or four at a time in SIMD registers (models of one or\n"
+                "                         two coordinates, rk4) with libmvec's sines and cosines: a row is\n"
+                "                         then the same run's --output to rounding, not bit for bit (a\n"
+                "                         sweep of that one point gives its bits); with --no-lanes, bit\n"
+                "                         for bit, at about half the speed\n"
                 "Under mpirun (phynjo_add_model's simulators, when built with MPI) a sweep is shared\n"
                 "among the ranks, each on --threads N threads; rank 0 writes the summary, the same bytes\n"
                 "for any number of ranks.\n"
@@ -173,8 +176,8 @@ int model_main(int argc, char** argv, const ModelCommandLine& model, SweepProces
             } else if (a == "--summary") {
                 sweep.summary = value("--summary");
                 sweeping = true;
-            } else if (a == "--lanes") {
-                sweep.settings.lanes = true;
+            } else if (a == "--lanes" || a == "--no-lanes") {
+                sweep.settings.lanes = a == "--lanes";
             } else if (a == "--trajectories") {
                 sweep.trajectories = value("--trajectories");
                 if (sweep.trajectories.empty()) throw UsageError{"--trajectories needs a folder"};
@@ -277,15 +280,19 @@ int model_main(int argc, char** argv, const ModelCommandLine& model, SweepProces
         sweep.settings.every = every;
         // What decides the results (and --trajectories: a resumed sweep writes the trajectories
         // of the runs it adds where the first part wrote its own): every option but --threads
-        // and --summary, in order.
+        // and --summary, in order, then --lanes when the runs go in lanes (the default; a
+        // summary of --no-lanes, or of a phynjo from before lanes were the default, is not
+        // resumed in lanes).
         for (int i = 1; i < argc; ++i) {
             const std::string a = argv[i];
             if ((a == "--threads" || a == "--summary") && i + 1 < argc) {
                 ++i;
                 continue;
             }
+            if (a == "--lanes" || a == "--no-lanes") continue;
             sweep.signature += (sweep.signature.empty() ? "" : " ") + a;
         }
+        if (sweep.settings.lanes) sweep.signature += (sweep.signature.empty() ? "" : " ") + std::string("--lanes");
         sweep.signature = std::string(model.model_name) + (sweep.signature.empty() ? "" : " ") + sweep.signature;
         return run_sweep(sweep, model, argv[0]);
     }
