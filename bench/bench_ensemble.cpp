@@ -68,8 +68,8 @@ int main(int argc, char** argv) {
     settings.t_end = t_end;
     settings.dt = dt;
     std::vector<double> v(2);
-    // phynjo: the sweep's runs, one thread, as run_sweep runs them (run_many), by default and
-    // with --lanes (two or four runs at a time in SIMD registers: `lane_width`)
+    // phynjo: the sweep's runs, one thread, as run_sweep runs them (run_many): by default in
+    // lanes (two or four runs at a time in SIMD registers: `lane_width`), and with --no-lanes
     std::vector<std::array<std::pair<std::size_t, double>, 2>> q0s(plan.size());
     std::vector<RunStart> starts(plan.size());
     for (std::size_t k = 0; k < plan.size(); ++k) {
@@ -111,16 +111,15 @@ int main(int argc, char** argv) {
     const double sec_h = std::chrono::duration<double>(Clock::now() - t1).count();
     const double runs = static_cast<double>(plan.size());
     std::printf("bench_ensemble: flip map %zu x %zu, dt = 1 ms, 10 s cap, one thread\n", n, n);
-    std::printf("    phynjo sweep runs:          %8.1f trajectories/s (%.0f flipped; largest energy error %.1e)\n",
-                runs / plain.sec, plain.flips, plain.worst);
-    std::printf("    phynjo sweep runs, --lanes: %8.1f trajectories/s (%zu runs at a time; %.0f flipped; largest energy "
-                "error %.1e; %d flip times differ from the hand loop's by > 2 dt)\n",
+    std::printf("    phynjo sweep runs (lanes):     %8.1f trajectories/s (%zu runs at a time; %.0f flipped; largest "
+                "energy error %.1e; %d flip times differ from the hand loop's by > 2 dt)\n",
                 runs / lanes.sec, sys.lane_width, lanes.flips, lanes.worst, disagree_lanes);
-    std::printf("    hand-written RK4:           %8.1f trajectories/s (%.0f flipped; %d of %zu flip times differ by > 2 dt)\n",
+    std::printf("    phynjo sweep runs, --no-lanes: %8.1f trajectories/s (%.0f flipped; largest energy error %.1e)\n",
+                runs / plain.sec, plain.flips, plain.worst);
+    std::printf("    hand-written RK4:              %8.1f trajectories/s (%.0f flipped; %d of %zu flip times differ by > 2 dt)\n",
                 runs / sec_h, flips_h, disagree, plan.size());
-    std::printf("ratio ensemble_flipmap_hand_lanes = %.2f\n", sec_h / lanes.sec);
-    const double sec_p = plain.sec;
-    std::printf("ratio ensemble_flipmap_hand = %.2f\n", sec_h / sec_p);
+    std::printf("ratio ensemble_flipmap_hand = %.2f\n", sec_h / lanes.sec);
+    std::printf("ratio ensemble_flipmap_hand_no_lanes = %.2f\n", sec_h / plain.sec);
     std::fflush(stdout);
     // SciPy on a sample of the same runs
     // the first python3 on the path that has SciPy and SymPy, else Debian's (as bench_stiff)
@@ -138,15 +137,19 @@ int main(int argc, char** argv) {
             if (std::sscanf(line, "scipy trajectories/s %lf", &rate) == 1) break;
         ::pclose(p);
         if (rate > 0) {
-            // phynjo on the same 8 x 8 runs
+            // phynjo's sweep (lanes, the default) on the same 8 x 8 runs
             SweepPlan small;
             small.grid = {SweepAxis{"th1", -3, 3, 8}, SweepAxis{"th2", -3, 3, 8}};
-            const auto t2 = Clock::now();
+            std::vector<std::array<std::pair<std::size_t, double>, 2>> small_q0(small.size());
+            std::vector<RunStart> small_starts(small.size());
             for (std::size_t k = 0; k < small.size(); ++k) {
                 small.values(k, v);
-                const std::pair<std::size_t, double> q0[2] = {{0, v[0]}, {1, v[1]}};
-                (void)run_one(sys, q0, {}, settings);
+                small_q0[k] = {{{0, v[0]}, {1, v[1]}}};
+                small_starts[k].q0 = small_q0[k];
             }
+            std::vector<RunSummary> small_out(small.size());
+            const auto t2 = Clock::now();
+            run_many(sys, small_starts, settings, small_out);
             const double mine = 64 / std::chrono::duration<double>(Clock::now() - t2).count();
             std::printf("    SymPy + SciPy solve_ivp (RK45, rtol = atol = 1e-10): %.2f trajectories/s on an 8 x 8 grid "
                         "(phynjo: %.1f on the same runs)\n", rate, mine);
