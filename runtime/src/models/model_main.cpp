@@ -109,7 +109,7 @@ void help(const char* prog, const ModelCommandLine& model, const LagrangianSyste
                 "                         two coordinates, rk4) with libmvec's sines and cosines: a row is\n"
                 "                         then the same run's --output to rounding, not bit for bit (a\n"
                 "                         sweep of that one point gives its bits); with --no-lanes, bit\n"
-                "                         for bit, at about half the speed\n"
+                "                         for bit, more slowly\n"
                 "Under mpirun (phynjo_add_model's simulators, when built with MPI) a sweep is shared\n"
                 "among the ranks, each on --threads N threads; rank 0 writes the summary, the same bytes\n"
                 "for any number of ranks.\n"

@@ -72,7 +72,7 @@ struct RunSettings {
     /// where the model has lane kernels (the default; simulators: --no-lanes turns it off). A
     /// run's sines are then libmvec's, so its summary agrees with run_one's (one run's
     /// --output) to rounding, not bit for bit; it is still the same bits whatever runs share
-    /// its registers, the thread count and the ranks. Off: run_one's bits, about half the speed.
+    /// its registers, the thread count and the ranks. Off: run_one's bits, more slowly.
     bool lanes = true;
 };
 
