@@ -1,10 +1,13 @@
 // Ensembles (issue #17): the double pendulum's flip-time map, released from rest over a grid
 // of (th1, th2) in [-3, 3]², each run until either arm first flips (|th| reaches π) or 10 s.
-//  * `ratio ensemble_flipmap_hand` = trajectories per second of phynjo's sweep runs
-//    (run_one on examples/models/flip_pendulum.lag: RK4 through the generated fused kernel
-//    rk4_step_values, events located on the step's Hermite arc, energy error tracked every
-//    step) / those of a hand-written loop (closed-form accelerations with m = l = 1 folded in,
-//    RK4, the flip taken at the step that crosses), one thread, same dt = 1 ms. Target ≥ 0.9.
+//  * `ratio ensemble_flipmap_hand` = trajectories per second of phynjo's sweep runs as a sweep
+//    runs them by default (run_many on examples/models/flip_pendulum.lag, compiled like the
+//    hand loop with -march=native: lane_width runs at a time through the generated lane kernel
+//    rk4_step_values_lanes, events located on each run's step's Hermite arc, energy error
+//    tracked every step) / those of a hand-written loop (closed-form accelerations with m = l = 1
+//    folded in, RK4, the flip taken at the step that crosses), one thread, same dt = 1 ms.
+//    Target ≥ 0.9. `ratio ensemble_flipmap_hand_no_lanes`: the same with --no-lanes (one run at
+//    a time through rk4_step_values, each row bit for bit one run's --output).
 //  * `ratio ensemble_flipmap_scipy` = phynjo / SymPy-lambdify + SciPy solve_ivp (RK45 with
 //    rtol = atol = 1e-10, terminal events) on a sample of the same runs (bench/scipy_flipmap.py),
 //    when python3 with SymPy and SciPy is present. Target ≥ 50.
