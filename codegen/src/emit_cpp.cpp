@@ -93,7 +93,7 @@ EmittedCpp emit_cpp(const Model& m, const EquationsOfMotion& raw, const EmitOpti
           << "[[maybe_unused]] inline void check_size(std::span<const double> a, std::size_t n, const char* function, const char* name) {\n"
           << "    if (a.size() != n) size_mismatch(a.size(), n, function, name);\n"
           << "}\n";
-        s << emit_derived_parameters(m) << "} // namespace\n\n";
+        s << emit_derived_parameters(m) << emit_lane_parameters(m) << "} // namespace\n\n";
         return s.str();
     };
     const std::size_t parts = std::max<std::size_t>(options.parts, 1);

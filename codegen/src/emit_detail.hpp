@@ -131,6 +131,11 @@ std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const N
 /// `param_NAME(P)` for each parameter defined from others: its assigned value, or its
 /// definition at the current values of the parameters it is defined from.
 std::string emit_derived_parameters(const Model& m);
+/// For a model with lane kernels: `LaneParameters` (each parameter as lanes::Lanes, a lane per
+/// run), `lane_parameters(P)` gathering it from kWidth Parameters (a derived parameter's value
+/// as param_NAME gives it, lane by lane), and param_NAME(const LaneParameters&) for the loads
+/// of generic bodies; empty otherwise.
+std::string emit_lane_parameters(const Model& m);
 /// The runtime glue: system(), make_world(), workflow().
 std::string emit_glue(const Model& m, bool mass_depends_on_velocities);
 /// main(): the runtime's command-line driver with the model's parameters.

@@ -182,8 +182,8 @@ std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const N
         std::vector<Expr> all = upper;
         all.insert(all.end(), eom.forcing.begin(), eom.forcing.end());
         const std::string b = body(names, all, res, uses_t, uses_p, true);
-        s << "template <class T>\n"
-          << "[[maybe_unused]] static inline void accelerations_core(const Parameters& P, T t, const T* q, const T* qdot,\n"
+        s << "template <class T, class PT>\n"
+          << "[[maybe_unused]] static inline void accelerations_core(const PT& P, T t, const T* q, const T* qdot,\n"
           << "                                                     T* qddot) {\n"
           << unused(uses_t, uses_p) << unread(b) << b;
         auto fi = [&](std::size_t i) { return res[upper.size() + i]; };
@@ -229,8 +229,8 @@ std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const N
         guards = cas::horner(guards);
         const std::string b = ne > 0 ? body(names, guards, res, uses_t, uses_p, true) : std::string();
         if (ne == 0) uses_t = uses_p = false;
-        s << "template <class T>\n"
-          << "[[maybe_unused]] static inline void guards_core(const Parameters& P, T t, const T* q, const T* qdot, T* g) {\n"
+        s << "template <class T, class PT>\n"
+          << "[[maybe_unused]] static inline void guards_core(const PT& P, T t, const T* q, const T* qdot, T* g) {\n"
           << unused(uses_t, uses_p) << unread(b) << b;
         if (ne == 0) s << "    (void)g;\n";
         for (std::size_t k = 0; k < ne; ++k) s << "    g[" << k << "] = " << res[k] << ";\n";
@@ -238,8 +238,8 @@ std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const N
     }
     {
         const std::string b = body(names, {eom.energy}, res, uses_t, uses_p, true);
-        s << "template <class T>\n"
-          << "[[maybe_unused]] static inline T energy_core(const Parameters& P, T t, const T* q, const T* qdot) {\n"
+        s << "template <class T, class PT>\n"
+          << "[[maybe_unused]] static inline T energy_core(const PT& P, T t, const T* q, const T* qdot) {\n"
           << unused(uses_t, uses_p) << unread(b) << b << "    return " << res[0] << ";\n}" << glue << "\n";
     }
     if (mc == 0)
@@ -257,8 +257,8 @@ std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const N
     // rk4_step (phynjo extension): the runtime's lagrangian_rk4 rule, the same operations in
     // the same order (the same bits), its first stage's q'' given; the stages in a core that
     // rk4_step_values shares
-    s << "template <class T>\n"
-      << "[[maybe_unused]] static inline void rk4_stages(const Parameters& p, T t, T h, T* q, T* qdot, const T* qddot) {\n"
+    s << "template <class T, class PT>\n"
+      << "[[maybe_unused]] static inline void rk4_stages(const PT& p, T t, T h, T* q, T* qdot, const T* qddot) {\n"
       << "    std::array<T, " << n << "> q0, v0, aq, av, k;\n"
       << "    for (std::size_t i = 0; i < " << n << "; ++i) {\n"
       << "        q0[i] = q[i];\n        v0[i] = qdot[i];\n        aq[i] = av[i] = T{};\n        k[i] = qddot[i];\n    }\n"
@@ -279,8 +279,8 @@ std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const N
     // q'', E and the guards at one state: the three cores on a copy of the state, which no
     // store through E, g or qddot can change (so the compiler sees the same arguments of sin
     // and cos in the three)
-    s << "template <class T>\n"
-      << "[[maybe_unused]] static inline bool values_core(const Parameters& P, T t, const T* q, const T* qdot, T* qddot, T& E,\n"
+    s << "template <class T, class PT>\n"
+      << "[[maybe_unused]] static inline bool values_core(const PT& P, T t, const T* q, const T* qdot, T* qddot, T& E,\n"
       << "                                              T* g) {\n"
       << "    std::array<T, " << n << "> x, v;\n"
       << "    std::copy_n(q, " << n << ", x.begin());\n"
@@ -311,9 +311,10 @@ std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const N
       << "    return values_core(p, t1, q.data(), qdot.data(), qddot.data(), E, g.data());\n}"
       << (has_lane_kernel(m) ? glue : "\n") << "\n";
     if (has_lane_kernel(m)) {
-        // rk4_step_values for lanes::kWidth runs at once: the same cores instantiated for Lanes
-        s << "bool rk4_step_values_lanes(const Parameters& P, const double* t, const double* h, const double* t1, double* q,\n"
-          << "                           double* qdot, double* qddot, double* E, double* g) {\n"
+        // rk4_step_values for lanes::kWidth runs at once, each with its own parameters: the same
+        // cores instantiated for Lanes and LaneParameters (the preamble's)
+        s << "bool rk4_step_values_lanes_each(const void* const* P, const double* t, const double* h, const double* t1,\n"
+          << "                                double* q, double* qdot, double* qddot, double* E, double* g) {\n"
           << "    namespace lanes = phynjo::runtime::lanes;\n"
           << "    constexpr std::size_t W = lanes::kWidth;\n"
           << "    std::array<lanes::Lanes, " << n << "> x, v, a;\n"
@@ -322,7 +323,7 @@ std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const N
           << "    for (std::size_t i = 0; i < " << n << "; ++i) {\n"
           << "        x[i] = lanes::load(q + i * W);\n        v[i] = lanes::load(qdot + i * W);\n"
           << "        a[i] = lanes::load(qddot + i * W);\n    }\n"
-          << "    const Parameters p = P;\n"
+          << "    const LaneParameters p = lane_parameters(P);\n"
           << "    rk4_stages(p, lanes::load(t), lanes::load(h), x.data(), v.data(), a.data());\n"
           << "    const bool ok = values_core(p, lanes::load(t1), x.data(), v.data(), a.data(), e, gl.data());\n"
           << "    for (std::size_t i = 0; i < " << n << "; ++i) {\n"
@@ -331,7 +332,12 @@ std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const N
           << "    lanes::store(E, e);\n"
           << (ne > 0 ? "    for (std::size_t k = 0; k < " + std::to_string(ne) + "; ++k) lanes::store(g + k * W, gl[k]);\n"
                      : std::string("    (void)g;\n"))
-          << "    return ok;\n}\n\n";
+          << "    return ok;\n}" << glue << "\n";
+        s << "bool rk4_step_values_lanes(const Parameters& P, const double* t, const double* h, const double* t1, double* q,\n"
+          << "                           double* qdot, double* qddot, double* E, double* g) {\n"
+          << "    const void* each[phynjo::runtime::lanes::kWidth];\n"
+          << "    for (auto& e : each) e = &P;\n"
+          << "    return rk4_step_values_lanes_each(each, t, h, t1, q, qdot, qddot, E, g);\n}\n\n";
     }
     // events (contract v2): apply_event one case per event, every right side read from the
     // state before any is stored

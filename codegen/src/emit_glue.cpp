@@ -9,9 +9,10 @@ namespace phynjo::codegen::detail {
 std::string emit_glue(const Model& m, bool mass_depends_on_velocities) {
     std::ostringstream s;
     s << "namespace {\n"
-      << "/// The model with its parameters from `get()`: a copy (system) or live ones (live_system).\n"
+      << "/// The model with its parameters from `get()`: a copy (system) or live ones (live_system);\n"
+      << "/// `held` points to them (and owns the copy).\n"
       << "template <typename Get>\n"
-      << "phynjo::runtime::LagrangianSystem make_system(Get get) {\n"
+      << "phynjo::runtime::LagrangianSystem make_system(Get get, std::shared_ptr<const Parameters> held) {\n"
       << "    phynjo::runtime::LagrangianSystem s;\n"
       << "    s.dof = dof;\n"
       << "    for (auto n : coordinate_names) s.coordinate_names.emplace_back(n);\n"
@@ -38,7 +39,10 @@ std::string emit_glue(const Model& m, bool mass_depends_on_velocities) {
                                "                                    double* v, double* a, double* E, double* g) {\n"
                                "        return rk4_step_values_lanes(get(), t, h, t1, q, v, a, E, g);\n    };\n"
                                "    s.lane_width = phynjo::runtime::lanes::kWidth;\n"
-                             : "")
+                               "    s.rk4_step_values_lanes_each = &rk4_step_values_lanes_each;\n"
+                               "    s.parameters = held;\n"
+                               "    s.parameters_type = &typeid(Parameters);\n"
+                             : "    (void)held;\n")
       << "    s.initial_state = [get](std::span<double> q, std::span<double> v) { initial_state(get(), q, v); };\n"
       << "    s.n_constraints = n_constraints;\n"
       << "    for (auto n : constraint_names) s.constraint_names.emplace_back(n);\n"
@@ -90,10 +94,11 @@ std::string emit_glue(const Model& m, bool mass_depends_on_velocities) {
       << "::workflow: unknown integrator '\" + std::string(integrator) + \"' (rk4, midpoint, rattle, cvode or ida)\");\n"
       << "}\n} // namespace\n\n"
       << "phynjo::runtime::LagrangianSystem system(const Parameters& P) {\n"
-      << "    return make_system([P]() -> const Parameters& { return P; });\n}\n\n"
+      << "    auto held = std::make_shared<const Parameters>(P);\n"
+      << "    return make_system([held]() -> const Parameters& { return *held; }, held);\n}\n\n"
       << "phynjo::runtime::LagrangianSystem live_system(const Parameters* P) {\n"
       << "    if (!P) throw std::invalid_argument(\"" << m.name << "::live_system: null parameters\");\n"
-      << "    return make_system([P]() -> const Parameters& { return *P; });\n}\n\n"
+      << "    return make_system([P]() -> const Parameters& { return *P; }, std::shared_ptr<const Parameters>(std::shared_ptr<const Parameters>(), P));\n}\n\n"
       << "phynjo::runtime::World make_world(const Parameters& P) { return phynjo::runtime::make_lagrangian_world(system(P)); }\n\n"
       << "phynjo::runtime::NumericWorkflow workflow(const Parameters& P, const phynjo::runtime::World& world,\n"
       << "                                          std::string_view integrator) {\n"

@@ -124,6 +124,11 @@ std::string emit_header(const Model& m, bool mass_depends_on_velocities) {
                 "/// or g could not be evaluated; throws what rk4_step_values throws for some run.\n"
                 "bool rk4_step_values_lanes(const Parameters& P, const double* t, const double* h, const double* t1,\n"
                 "                           double* q, double* qdot, double* qddot, double* E, double* g);\n"
+                "/// (phynjo) rk4_step_values_lanes with a Parameters per run: run l's are *static_cast<const\n"
+                "/// Parameters*>(P[l]) (P: kWidth pointers). A lane's results depend on its own parameters and\n"
+                "/// state only: rk4_step_values_lanes(P, …) is this with every P[l] = &P, bit for bit.\n"
+                "bool rk4_step_values_lanes_each(const void* const* P, const double* t, const double* h, const double* t1,\n"
+                "                                double* q, double* qdot, double* qddot, double* E, double* g);\n"
               : "")
       << "/// The initial values of the model file (0 where none is given).\n"
       << "void initial_state(const Parameters& P, std::span<double> q, std::span<double> qdot);\n"
@@ -213,6 +218,29 @@ std::string emit_derived_parameters(const Model& m) {
             s << "[[maybe_unused]] double param_" << p.name << "(const Parameters& P) {\n"
               << "    return P." << p.name << ".is_set() ? P." << p.name << ".value() : " << cas::to_cpp(p.definition, cpp)
               << ";\n}\n";
+    return s.str();
+}
+
+std::string emit_lane_parameters(const Model& m) {
+    if (!has_lane_kernel(m)) return {};
+    std::ostringstream s;
+    s << "/// A Parameters per lane (rk4_step_values_lanes_each): lane l of each field is run l's value.\n"
+      << "struct LaneParameters {\n";
+    for (const Parameter& p : m.parameters) s << "    phynjo::runtime::lanes::Lanes " << p.name << ";\n";
+    s << "};\n";
+    for (const Parameter& p : m.parameters)
+        if (p.derived())
+            s << "[[maybe_unused]] phynjo::runtime::lanes::Lanes param_" << p.name << "(const LaneParameters& P) { return P."
+              << p.name << "; }\n";
+    s << "/// Lane l from *static_cast<const Parameters*>(P[l]).\n"
+      << "[[maybe_unused]] LaneParameters lane_parameters(const void* const* P) {\n"
+      << "    LaneParameters r;\n"
+      << "    for (std::size_t l = 0; l < phynjo::runtime::lanes::kWidth; ++l) {\n"
+      << "        const Parameters& p = *static_cast<const Parameters*>(P[l]);\n";
+    if (m.parameters.empty()) s << "        (void)p;\n        (void)r;\n";
+    for (const Parameter& p : m.parameters)
+        s << "        r." << p.name << "[l] = " << (p.derived() ? "param_" + p.name + "(p)" : "p." + p.name) << ";\n";
+    s << "    }\n    return r;\n}\n";
     return s.str();
 }
 

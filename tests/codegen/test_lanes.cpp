@@ -6,12 +6,16 @@
 // paired with, and a sweep's rows on the thread count); `as` losing −0; run_many giving a
 // run another run's summary or trajectory, leaking one run's state into the next run of its
 // slot, dropping a healthy run's step when its neighbour fails, or depending on the order or the
-// grouping of the runs; run_many drifting from run_one beyond rounding.
+// grouping of the runs; run_many drifting from run_one beyond rounding; a lane reading another
+// run's parameters (rk4_step_values_lanes_each, run_many's runs of their own systems), or runs
+// of different models sharing the lanes of one kernel.
 #include "bouncing_ball.hpp"
 #include "coupled_balls.hpp"
 #include "driven.hpp"
 #include "flip_pendulum.hpp"
+#include "incline.hpp"
 #include "pendulum.hpp"
+#include "physical_pendulum.hpp"
 #include "two_balls.hpp"
 
 #include "phynjo/runtime/models/ensemble.hpp"
@@ -131,21 +135,87 @@ bool call_lanes(Fn&& kernel, std::vector<LaneState>& lanes, std::size_t n, std::
         }                                                                                                              \
     } while (0)
 
+/// At random states of model NS, each lane with its own parameters (`vary(P, l)` makes lane l's
+/// from the defaults): each lane of one rk4_step_values_lanes_each call is its state with its
+/// parameters alone (rk4_step_values_lanes, every lane the same), bit for bit, and rk4_step_values
+/// with them within rounding.
+#define PHYNJO_LANES_OWN_PARAMETERS(NS, vary)                                                                          \
+    do {                                                                                                               \
+        namespace M = NS;                                                                                              \
+        INFO(#NS);                                                                                                     \
+        constexpr std::size_t n = M::dof, ne = M::n_events;                                                            \
+        std::vector<M::Parameters> P(W);                                                                               \
+        std::vector<const void*> each(W);                                                                              \
+        for (std::size_t l = 0; l < W; ++l) {                                                                          \
+            vary(P[l], l);                                                                                             \
+            each[l] = &P[l];                                                                                           \
+        }                                                                                                              \
+        auto kernel = [&](auto... x) { return M::rk4_step_values_lanes_each(each.data(), x...); };                     \
+        std::mt19937_64 rng(20261203);                                                                                 \
+        std::uniform_real_distribution<double> d(-2.0, 2.0);                                                          \
+        for (int trial = 0; trial < 50; ++trial) {                                                                     \
+            std::vector<LaneState> lanes(W);                                                                           \
+            for (std::size_t l = 0; l < W; ++l) {                                                                      \
+                LaneState& s = lanes[l];                                                                               \
+                s.q.resize(n);                                                                                         \
+                s.v.resize(n);                                                                                         \
+                s.a.resize(n);                                                                                         \
+                for (auto& x : s.q) x = d(rng);                                                                        \
+                for (auto& x : s.v) x = d(rng);                                                                        \
+                s.t = 1 + d(rng);                                                                                      \
+                s.h = 0.01 * (2.5 + d(rng));                                                                           \
+                s.t1 = s.t + s.h;                                                                                      \
+                M::accelerations(P[l], s.t, s.q, s.v, s.a);                                                            \
+            }                                                                                                          \
+            /* one state in every lane: the lanes differ by their parameters alone */                                 \
+            if (trial % 2 == 1)                                                                                        \
+                for (std::size_t l = 1; l < W; ++l) {                                                                  \
+                    lanes[l] = lanes[0];                                                                               \
+                    M::accelerations(P[l], lanes[l].t, lanes[l].q, lanes[l].v, lanes[l].a);                            \
+                }                                                                                                      \
+            const std::vector<LaneState> start = lanes;                                                                \
+            CHECK(call_lanes(kernel, lanes, n, ne));                                                                   \
+            for (std::size_t l = 0; l < W; ++l) {                                                                      \
+                INFO("lane " << l);                                                                                    \
+                std::vector<LaneState> alone(W, start[l]);                                                             \
+                CHECK(call_lanes([&](auto... x) { return M::rk4_step_values_lanes(P[l], x...); }, alone, n, ne));     \
+                CHECK(same_bits(alone[0].q, lanes[l].q));                                                              \
+                CHECK(same_bits(alone[0].v, lanes[l].v));                                                              \
+                CHECK(same_bits(alone[0].a, lanes[l].a));                                                              \
+                CHECK(same_bits(alone[0].g, lanes[l].g));                                                              \
+                CHECK(same_bits(alone[0].E, lanes[l].E));                                                              \
+                std::vector<double> q = start[l].q, v = start[l].v, a = start[l].a, g(ne);                             \
+                double E = 0;                                                                                          \
+                CHECK(M::rk4_step_values(P[l], start[l].t, start[l].h, start[l].t1, q, v, a, E, g));                   \
+                for (std::size_t i = 0; i < n; ++i) {                                                                  \
+                    CHECK(close(q[i], lanes[l].q[i], 1e-14));                                                          \
+                    CHECK(close(v[i], lanes[l].v[i], 1e-14));                                                          \
+                    CHECK(close(a[i], lanes[l].a[i], 1e-13));                                                          \
+                }                                                                                                      \
+                CHECK(close(E, lanes[l].E, 1e-14));                                                                    \
+            }                                                                                                          \
+        }                                                                                                              \
+    } while (0)
+
 /// A batch of runs of `sys`: run_many in order, reversed, and one at a time give every run the
 /// same summary and trajectory, bit for bit; run_one agrees to `rel` (status, reason, the
 /// events that fired; bit for bit without libmvec). Returns run_many's summaries.
+/// With `systems`, run k is of its own system (RunStart::system; null: `sys`).
 std::vector<RunSummary> check_batch(const LagrangianSystem& sys,
                                     const std::vector<std::vector<std::pair<std::size_t, double>>>& q0,
                                     const std::vector<std::vector<std::pair<std::size_t, double>>>& v0,
-                                    const RunSettings& settings, double rel) {
+                                    const RunSettings& settings, double rel,
+                                    const std::vector<const LagrangianSystem*>& systems = {}) {
     REQUIRE(sys.rk4_step_values_lanes);
+    REQUIRE((systems.empty() || systems.size() == q0.size()));
+    auto system_of = [&](std::size_t k) -> const LagrangianSystem& { return systems.empty() || !systems[k] ? sys : *systems[k]; };
     CHECK(sys.lane_width == W); // the model's width, as compiled (the same flags here)
     REQUIRE(settings.lanes);
     const std::size_t count = q0.size();
     auto many = [&](const std::vector<std::size_t>& order, std::vector<std::string>& rows) {
         std::vector<RunStart> starts;
         rows.assign(count, "");
-        for (std::size_t k : order) starts.push_back({q0[k], v0[k], &rows[k]});
+        for (std::size_t k : order) starts.push_back({q0[k], v0[k], &rows[k], systems.empty() ? nullptr : systems[k]});
         std::vector<RunSummary> out(order.size()), by_run(count);
         std::vector<int> calls(order.size(), 0);
         run_many(sys, starts, settings, out, [&](std::size_t j) { ++calls[j]; });
@@ -166,12 +236,12 @@ std::vector<RunSummary> check_batch(const LagrangianSystem& sys,
         const std::vector<RunSummary> one = many({k}, rows_k); // alone (its slot's neighbour repeats it)
         same_summary(f[k], one[k]);
         CHECK(rows_f[k] == rows_k[k]);
-        const RunSummary r = run_one(sys, q0[k], v0[k], settings);
+        const RunSummary r = run_one(system_of(k), q0[k], v0[k], settings);
         { // without lanes, run_many is run_one
             RunSettings plain = settings;
             plain.lanes = false;
             std::vector<RunSummary> p(1);
-            const RunStart start{q0[k], v0[k]};
+            const RunStart start{q0[k], v0[k], nullptr, systems.empty() ? nullptr : systems[k]};
             run_many(sys, std::span<const RunStart>(&start, 1), plain, p);
             same_summary(p[0], r);
         }
@@ -209,10 +279,11 @@ LagrangianSystem failing_above(LagrangianSystem s, double limit) {
                                      std::span<double> a, double& E, std::span<double> g) {
         return rsv(t, h, t1, q, v, a, E, g) && !(q[0] > limit);
     };
-    auto lanes = s.rk4_step_values_lanes;
-    s.rk4_step_values_lanes = [lanes, limit, width = s.lane_width](const double* t, const double* h, const double* t1,
-                                                                   double* q, double* v, double* a, double* E, double* g) {
-        bool ok = lanes(t, h, t1, q, v, a, E, g);
+    auto lanes = s.rk4_step_values_lanes_each;
+    s.rk4_step_values_lanes_each = [lanes, limit, width = s.lane_width](const void* const* P, const double* t, const double* h,
+                                                                        const double* t1, double* q, double* v, double* a,
+                                                                        double* E, double* g) {
+        bool ok = lanes(P, t, h, t1, q, v, a, E, g);
         for (std::size_t l = 0; l < width; ++l) ok = ok && !(q[l] > limit); // q_0 of lane l
         return ok;
     };
@@ -270,6 +341,30 @@ TEST_CASE("rk4_step_values_lanes: each lane is its run alone, bit for bit, and r
     PHYNJO_LANES_AGREE(pendulum);
     PHYNJO_LANES_AGREE(driven);
     PHYNJO_LANES_AGREE(two_balls);
+}
+
+TEST_CASE("rk4_step_values_lanes_each: each lane with its own parameters is its run alone, bit for bit",
+          "[lanes][kernels]") {
+    PHYNJO_LANES_OWN_PARAMETERS(flip_pendulum, [](flip_pendulum::Parameters& p, std::size_t l) {
+        p.g = 9.81 + 0.7 * static_cast<double>(l);
+        p.l2 = 1.0 / (1.0 + static_cast<double>(l));
+        p.m1 = 1.0 + 0.25 * static_cast<double>(l * l);
+    });
+    // I = Mp R²/2 follows Mp and R lane by lane, or is set in one lane
+    PHYNJO_LANES_OWN_PARAMETERS(physical_pendulum, [](physical_pendulum::Parameters& p, std::size_t l) {
+        p.Mp = 2.0 + static_cast<double>(l);
+        p.R = 0.5 - 0.1 * static_cast<double>(l % 2);
+        if (l == 1) p.I = 0.77;
+    });
+    // sin(alpha) and the derived s0 = sin(alpha)/2 + 1/10: functions of the parameters alone
+    PHYNJO_LANES_OWN_PARAMETERS(incline, [](incline::Parameters& p, std::size_t l) {
+        p.alpha = 0.4 + 0.3 * static_cast<double>(l);
+        p.k = 3.0 + static_cast<double>(l);
+    });
+    PHYNJO_LANES_OWN_PARAMETERS(driven, [](driven::Parameters& p, std::size_t l) {
+        p.u = 0.3 - 0.2 * static_cast<double>(l);
+        p.w = 1.2 + 0.5 * static_cast<double>(l);
+    });
 }
 
 TEST_CASE("run_many: a run's summary and trajectory do not depend on its company, and are run_one's to rounding",
@@ -333,5 +428,84 @@ TEST_CASE("run_many: a run's summary and trajectory do not depend on its company
         settings.dt = 0.01;
         check_batch(pendulum::system({}), {{{0, 2.5}}, {{0, -1.0}}, {{0, 3.0}}}, {{}, {}, {}}, settings, 1e-11);
         check_batch(driven::system({}), {{}, {{0, 0.2}}}, {{{0, 0.3}}, {}}, settings, 1e-11);
+    }
+}
+
+TEST_CASE("run_many: runs of their own systems (a parameter sweep) share the lanes, each its own run",
+          "[lanes][ensemble]") {
+    RunSettings settings;
+    settings.every = 5;
+    settings.lanes = true;
+    SECTION("the flip map over g, l2 and m1: flips, finishes, a singular system among them") {
+        settings.t_end = 2;
+        std::vector<LagrangianSystem> owned;
+        std::vector<std::vector<std::pair<std::size_t, double>>> q0, v0;
+        for (int k = 0; k < 9; ++k) {
+            flip_pendulum::Parameters p;
+            p.g = 4.0 + 1.5 * k;
+            p.l2 = 0.5 + 0.1 * (k % 4);
+            p.m1 = k == 6 ? 0.0 : 1.0 + 0.2 * (k % 3); // k = 6: m1 = 0 …
+            if (k == 6) p.m2 = 0.0;                      // … and m2 = 0: M is singular
+            owned.push_back(flip_pendulum::system(p));
+            q0.push_back({{0, k % 2 ? 2.9 : 0.5}, {1, k % 2 ? -2.8 : 0.3 * k}}); // odd k near the top: flips
+            v0.push_back({});
+        }
+        std::vector<const LagrangianSystem*> systems;
+        for (const auto& s : owned) systems.push_back(&s);
+        const std::vector<RunSummary> r = check_batch(flip_pendulum::system({}), q0, v0, settings, 1e-9, systems);
+        int stopped = 0, finished = 0, failed = 0;
+        for (const RunSummary& s : r) {
+            stopped += s.status == RunSummary::Status::stopped;
+            finished += s.status == RunSummary::Status::finished;
+            failed += s.status == RunSummary::Status::failed;
+        }
+        CHECK(stopped >= 2);
+        CHECK(finished >= 2);
+        CHECK(failed == 1);
+        // a system of the default parameters, or none (run_many's own): the same bits
+        const LagrangianSystem defaults = flip_pendulum::system({});
+        const std::pair<std::size_t, double> q[] = {{0, 1.5}, {1, -0.5}};
+        std::vector<RunStart> starts{{q, {}, nullptr, &owned[0]}, {q, {}, nullptr, &defaults}, {q, {}, nullptr, nullptr}};
+        std::vector<RunSummary> out(3);
+        run_many(flip_pendulum::system({}), starts, settings, out);
+        same_summary(out[1], out[2]);
+        CHECK(!same_bits(out[0].q, out[1].q)); // other parameters, another run
+    }
+    SECTION("derived parameters following their definitions lane by lane, or set; functions of parameters alone") {
+        settings.t_end = 3;
+        std::vector<LagrangianSystem> owned;
+        std::vector<std::vector<std::pair<std::size_t, double>>> q0, v0;
+        for (int k = 0; k < 5; ++k) {
+            physical_pendulum::Parameters p;
+            p.Mp = 1.0 + k;
+            if (k == 3) p.I = 0.05;
+            owned.push_back(physical_pendulum::system(p));
+            q0.push_back({{0, 0.5 + 0.4 * k}});
+            v0.push_back({});
+        }
+        std::vector<const LagrangianSystem*> systems;
+        for (const auto& s : owned) systems.push_back(&s);
+        check_batch(physical_pendulum::system({}), q0, v0, settings, 1e-11, systems);
+        std::vector<LagrangianSystem> inclines;
+        for (int k = 0; k < 6; ++k) {
+            incline::Parameters p;
+            p.alpha = -1.2 + 0.5 * k;
+            inclines.push_back(incline::system(p));
+        }
+        std::vector<const LagrangianSystem*> incline_systems;
+        for (const auto& s : inclines) incline_systems.push_back(&s);
+        check_batch(incline::system({}), std::vector<std::vector<std::pair<std::size_t, double>>>(6),
+                    std::vector<std::vector<std::pair<std::size_t, double>>>(6), settings, 1e-11, incline_systems);
+    }
+    SECTION("runs of different models never share a kernel: each is run_one's, bit for bit") {
+        settings.t_end = 1;
+        const LagrangianSystem flip = flip_pendulum::system({}), pend = pendulum::system({});
+        const std::pair<std::size_t, double> q[] = {{0, 1.0}};
+        std::vector<RunStart> starts{{q, {}, nullptr, &flip}, {q, {}, nullptr, &pend}, {q, {}, nullptr, &flip}};
+        std::vector<RunSummary> out(3);
+        run_many(flip, starts, settings, out);
+        same_summary(out[0], run_one(flip, q, {}, settings));
+        same_summary(out[1], run_one(pend, q, {}, settings));
+        same_summary(out[2], out[0]);
     }
 }

@@ -115,6 +115,24 @@ close "$work/one0.csv" "$work/t1/run_00.csv" && close "$work/one18.csv" "$work/t
 "$sim" --grid th1=-1:-1:1 --grid th2=1:1:1 --t-end 2 --every 50 --summary "$work/o18.csv" --trajectories "$work/o18"
 cmp -s "$work/o18/run_0.csv" "$work/t1/run_18.csv" && [ "$(sed -n 3p "$work/o18.csv" | cut -d, -f2-)" = "$(grep "^18," "$work/t1.csv" | cut -d, -f2-)" ] \
   && ok "lanes: run 18 alone (a sweep of one point) gives its row and trajectory bit for bit" || bad "lanes: run 18 alone differs"
+# a parameter sweep: runs of their own parameters share the lanes — the same bytes on 1 and 3
+# threads, a run alone (a sweep of its one point) the same row; with --no-lanes each row is one
+# run's --param … --output, bit for bit
+pg=(--grid g=4:16:5 --grid th1=1:3:5 --t-end 3)
+"$sim" "${pg[@]}" --summary "$work/pg1.csv"
+"$sim" "${pg[@]}" --summary "$work/pg3.csv" --threads 3
+cmp -s "$work/pg1.csv" "$work/pg3.csv" && ok "parameter sweep: the same bytes on 1 and 3 threads" || bad "parameter sweep differs with threads"
+"$sim" --grid g=10:10:1 --grid th1=2.5:2.5:1 --t-end 3 --summary "$work/pg12.csv"
+[ "$(grep "^13," "$work/pg1.csv" | cut -d, -f2-)" = "$(sed -n 3p "$work/pg12.csv" | cut -d, -f2-)" ] \
+  && ok "parameter sweep: run 13 (g = 10, th1 = 2.5) alone gives its row bit for bit" || bad "parameter sweep: run 13 alone differs"
+"$sim" "${pg[@]}" --summary "$work/pgn.csv" --no-lanes
+"$sim" --param g=10 --init th1=2.5 --t-end 3 -o "$work/pg12.out" 2> /dev/null
+[ "$(grep "^13," "$work/pgn.csv" | cut -d, -f5-9)" = "$(tail -1 "$work/pg12.out" | cut -d, -f1-5)" ] \
+  && [ "$(grep "^13," "$work/pg1.csv" | cut -d, -f5-9)" != "$(tail -1 "$work/pg12.out" | cut -d, -f1-5)" ] \
+  && ok "parameter sweep: --no-lanes is one run's --param --output bit for bit, lanes not" || bad "parameter sweep vs --param --output"
+[ "$(cut -d, -f1-4 "$work/pgn.csv" | tail -n +3)" = "$(cut -d, -f1-4 "$work/pg1.csv" | tail -n +3)" ] \
+  && grep -q ",stopped," "$work/pg1.csv" && grep -q ",finished," "$work/pg1.csv" \
+  && ok "parameter sweep: lanes' statuses are --no-lanes' (runs stopped and finished)" || bad "parameter sweep: statuses"
 # the signature: --lanes (the default) spelt out is the same command; --no-lanes another one
 head -1 "$work/t1.csv" | grep -q -- " --lanes$" && ! head -1 "$work/n1.csv" | grep -q -- "lanes" \
   && ok "signature: --lanes by default, nothing with --no-lanes" || bad "signature: $(head -1 "$work/t1.csv") / $(head -1 "$work/n1.csv")"

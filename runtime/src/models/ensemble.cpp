@@ -477,24 +477,36 @@ void run_many(const LagrangianSystem& sys, std::span<const RunStart> starts, con
     if (out.size() != starts.size())
         throw std::invalid_argument("run_many: " + std::to_string(starts.size()) + " runs but " +
                                     std::to_string(out.size()) + " summaries");
-    if (!settings.lanes || !fast_path(sys, settings) || !sys.rk4_step_values_lanes) {
+    auto system_of = [&](std::size_t k) -> const LagrangianSystem& { return starts[k].system ? *starts[k].system : sys; };
+    // lanes when every run's system is of one model with lane kernels (the same parameters'
+    // type), stepped by the first run's kernel with each run's parameters
+    bool lanes = settings.lanes && !starts.empty() && system_of(0).rk4_step_values_lanes_each && system_of(0).parameters_type;
+    for (std::size_t k = 0; lanes && k < starts.size(); ++k) {
+        const LagrangianSystem& s = system_of(k);
+        lanes = fast_path(s, settings) && s.rk4_step_values_lanes_each && s.parameters && s.parameters_type &&
+                *s.parameters_type == *system_of(0).parameters_type && s.lane_width == system_of(0).lane_width;
+    }
+    if (!lanes) {
         for (std::size_t k = 0; k < starts.size(); ++k) {
-            out[k] = run_one(sys, starts[k].q0, starts[k].v0, settings, starts[k].trajectory);
+            out[k] = run_one(system_of(k), starts[k].q0, starts[k].v0, settings, starts[k].trajectory);
             if (finished) finished(k);
         }
         return;
     }
     // lane_width slots, each holding a run until it is over, then the next run in order. Each call
-    // of the lane kernel steps every slot's run once; an empty slot repeats an occupied one
-    // (its results unused). A lane's results depend on its own operands only, so a run's bits
-    // do not depend on the company it keeps.
-    const std::size_t W = sys.lane_width; // the width the model's code was compiled with
-    if (W == 0) throw std::invalid_argument("run_many: the system's rk4_step_values_lanes has lane_width 0");
-    const std::size_t n = sys.dof, ne = sys.n_events;
+    // of the lane kernel steps every slot's run once, with that run's parameters; an empty slot
+    // repeats an occupied one (its results unused). A lane's results depend on its own operands
+    // only, so a run's bits do not depend on the company it keeps.
+    const LagrangianSystem& model = system_of(0);
+    const auto& each = model.rk4_step_values_lanes_each;
+    const std::size_t W = model.lane_width; // the width the model's code was compiled with
+    if (W == 0) throw std::invalid_argument("run_many: the system's rk4_step_values_lanes_each has lane_width 0");
+    const std::size_t n = model.dof, ne = model.n_events;
     std::vector<std::unique_ptr<FastRun>> slot(W);
     std::vector<std::size_t> index(W);
     std::vector<const KernelCall*> call(W);
     std::vector<double> t(W), h(W), t1(W), q(n * W), v(n * W), a(n * W), e(W), g(ne * W);
+    std::vector<const void*> parameters(W);
     std::size_t next = 0;
     auto retire = [&](std::size_t l) {
         out[index[l]] = slot[l]->summary();
@@ -504,7 +516,7 @@ void run_many(const LagrangianSystem& sys, std::span<const RunStart> starts, con
     auto fill = [&](std::size_t l) { // the next run that needs a call, in order
         while (!slot[l] && next < starts.size()) {
             index[l] = next;
-            slot[l] = std::make_unique<FastRun>(sys, starts[next].q0, starts[next].v0, settings, starts[next].trajectory);
+            slot[l] = std::make_unique<FastRun>(system_of(next), starts[next].q0, starts[next].v0, settings, starts[next].trajectory);
             ++next;
             call[l] = slot[l]->next();
             if (!call[l]) retire(l);
@@ -513,6 +525,7 @@ void run_many(const LagrangianSystem& sys, std::span<const RunStart> starts, con
     // lane `l` of the buffers from slot `s`'s run, and back
     auto gather = [&](std::size_t l, std::size_t s) {
         FastRun& f = *slot[s];
+        parameters[l] = system_of(index[s]).parameters.get();
         t[l] = call[s]->t;
         h[l] = call[s]->h;
         t1[l] = call[s]->t1;
@@ -532,7 +545,9 @@ void run_many(const LagrangianSystem& sys, std::span<const RunStart> starts, con
         f.energy() = e[l];
         for (std::size_t k = 0; k < ne; ++k) f.guards()[k] = g[k * W + l];
     };
-    auto kernel = [&] { return sys.rk4_step_values_lanes(t.data(), h.data(), t1.data(), q.data(), v.data(), a.data(), e.data(), g.data()); };
+    auto kernel = [&] {
+        return each(parameters.data(), t.data(), h.data(), t1.data(), q.data(), v.data(), a.data(), e.data(), g.data());
+    };
     for (std::size_t l = 0; l < W; ++l) fill(l);
     for (;;) {
         std::size_t first = W;
@@ -745,19 +760,11 @@ int run_sweep(const SweepCommand& cmd, const ModelCommandLine& model, const char
                 std::string().swap(rows[k]);
             };
             std::vector<RunSummary> mine_results(mine.size());
-            if (parameters_swept) { // a system per run: one at a time
-                for (std::size_t k = 0; k < mine.size(); ++k) {
-                    const std::size_t j = mine[k];
-                    const RunStart start{q0s[j], v0s[j], rows.empty() ? nullptr : &(rows[k] = trajectory_header)};
-                    run_many(systems[j], std::span<const RunStart>(&start, 1), cmd.settings,
-                             std::span<RunSummary>(&mine_results[k], 1), [&](std::size_t) { write(k); });
-                }
-            } else {
-                std::vector<RunStart> starts;
-                for (std::size_t k = 0; k < mine.size(); ++k)
-                    starts.push_back({q0s[mine[k]], v0s[mine[k]], rows.empty() ? nullptr : &(rows[k] = trajectory_header)});
-                run_many(base, starts, cmd.settings, mine_results, write);
-            }
+            std::vector<RunStart> starts; // a system per run when parameters are swept
+            for (std::size_t k = 0; k < mine.size(); ++k)
+                starts.push_back({q0s[mine[k]], v0s[mine[k]], rows.empty() ? nullptr : &(rows[k] = trajectory_header),
+                                  parameters_swept ? &systems[mine[k]] : nullptr});
+            run_many(base, starts, cmd.settings, mine_results, write);
             for (std::size_t k = 0; k < mine.size(); ++k) results[mine[k]] = std::move(mine_results[k]);
         };
         executor.fork_join(threads, task);

@@ -86,17 +86,20 @@ RunSummary run_one(const LagrangianSystem& system, std::span<const std::pair<std
                    std::span<const std::pair<std::size_t, double>> v0, const RunSettings& settings,
                    std::string* trajectory = nullptr);
 
-/// One run of run_many: its initial values (as run_one's q0 and v0) and, optionally, the
-/// string its trajectory rows are appended to.
+/// One run of run_many: its initial values (as run_one's q0 and v0), optionally the string its
+/// trajectory rows are appended to, and its own system (the same model with other parameters;
+/// null: run_many's).
 struct RunStart {
     std::span<const std::pair<std::size_t, double>> q0, v0;
     std::string* trajectory = nullptr;
+    const LagrangianSystem* system = nullptr;
 };
 
-/// The runs `starts` of one system on this thread, their summaries in `out` (same size), as
-/// run_one gives them — but, with `settings.lanes` and when the model has generated lane
-/// kernels (`rk4_step_values_lanes`: rk4, no constraints, one or two coordinates), lane_width
-/// runs at a time in the lanes of SIMD registers (runtime/models/lanes.hpp): then a run's sines and
+/// The runs `starts` on this thread (each of `system` or of its own, RunStart::system), their
+/// summaries in `out` (same size), as run_one gives them — but, with `settings.lanes` and when
+/// every run's system has the generated lane kernels of one model (`rk4_step_values_lanes_each`:
+/// rk4, no constraints, one or two coordinates), lane_width runs at a time in the lanes of SIMD
+/// registers (runtime/models/lanes.hpp), each with its own parameters: then a run's sines and
 /// cosines are libmvec's, so its summary agrees with run_one's to rounding, not bit for bit.
 /// Either way a run's summary depends on that run alone: not on the other runs, their order,
 /// or which of them shared its registers. `finished(k)`, when given, is called as soon as run

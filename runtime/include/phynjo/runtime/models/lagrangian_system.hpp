@@ -14,9 +14,11 @@
 #include <cmath>
 #include <cstddef>
 #include <functional>
+#include <memory>
 #include <span>
 #include <string>
 #include <string_view>
+#include <typeinfo>
 #include <vector>
 
 namespace phynjo::runtime {
@@ -67,6 +69,18 @@ struct LagrangianSystem {
         rk4_step_values_lanes;
     /// The runs per call of rk4_step_values_lanes (lanes::kWidth where the model was compiled).
     std::size_t lane_width = 0;
+    /// rk4_step_values_lanes with a run's own parameters in each lane (generated
+    /// `rk4_step_values_lanes_each`): `parameters[l]` is the `parameters` of run l's system, a
+    /// system of the same model (the same `parameters_type`). Empty when the model has none.
+    std::function<bool(const void* const* parameters, const double* t, const double* h, const double* t1, double* q,
+                       double* qdot, double* qddot, double* E, double* g)>
+        rk4_step_values_lanes_each;
+    /// The parameters the functions above read (the generated code's `Parameters`, opaque here;
+    /// owned when the system holds a copy) and their type, which names the model: runs whose
+    /// systems have the same type share the lanes of rk4_step_values_lanes_each. Null when the
+    /// model has no lane kernels.
+    std::shared_ptr<const void> parameters;
+    const std::type_info* parameters_type = nullptr;
 
     // (v2) Constraints (lag-format.md, *Constraints*), file order; none when n_constraints = 0.
     std::size_t n_constraints = 0;
