@@ -81,20 +81,30 @@ bool call_lanes(Fn&& kernel, std::vector<LaneState>& lanes, std::size_t n, std::
     return ok;
 }
 
-/// At random states of model NS: each lane of one call is the lane's state alone (in every
-/// lane), bit for bit, and rk4_step_values within rounding (bit for bit without libmvec).
-#define PHYNJO_LANES_AGREE(NS)                                                                                         \
+/// At random states of model NS, lane l with the parameters `vary(P, l)` makes from the defaults
+/// (a no-op: every lane the defaults): each lane of one rk4_step_values_lanes_each call is its
+/// state with its parameters alone (rk4_step_values_lanes, that state and those parameters in
+/// every lane), bit for bit, and rk4_step_values with them within rounding (bit for bit
+/// without libmvec). Every other trial puts one state in every lane, so that the lanes differ
+/// by their parameters alone.
+#define PHYNJO_LANES_AGREE(NS, vary)                                                                                   \
     do {                                                                                                               \
         namespace M = NS;                                                                                              \
         INFO(#NS);                                                                                                     \
-        const M::Parameters P{};                                                                                       \
         constexpr std::size_t n = M::dof, ne = M::n_events;                                                            \
-        auto kernel = [&](auto... x) { return M::rk4_step_values_lanes(P, x...); };                                    \
+        std::vector<M::Parameters> P(W);                                                                               \
+        std::vector<const void*> each(W);                                                                              \
+        for (std::size_t l = 0; l < W; ++l) {                                                                          \
+            vary(P[l], l);                                                                                             \
+            each[l] = &P[l];                                                                                           \
+        }                                                                                                              \
+        auto kernel = [&](auto... x) { return M::rk4_step_values_lanes_each(each.data(), x...); };                     \
         std::mt19937_64 rng(20261202);                                                                                 \
         std::uniform_real_distribution<double> d(-2.0, 2.0);                                                          \
         for (int trial = 0; trial < 50; ++trial) {                                                                     \
             std::vector<LaneState> lanes(W);                                                                           \
-            for (auto& s : lanes) {                                                                                    \
+            for (std::size_t l = 0; l < W; ++l) {                                                                      \
+                LaneState& s = lanes[l];                                                                               \
                 s.q.resize(n);                                                                                         \
                 s.v.resize(n);                                                                                         \
                 s.a.resize(n);                                                                                         \
@@ -103,13 +113,17 @@ bool call_lanes(Fn&& kernel, std::vector<LaneState>& lanes, std::size_t n, std::
                 s.t = 1 + d(rng);                                                                                      \
                 s.h = 0.01 * (2.5 + d(rng));                                                                           \
                 s.t1 = s.t + s.h;                                                                                      \
-                M::accelerations(P, s.t, s.q, s.v, s.a);                                                               \
+                if (trial % 2 == 1 && l > 0) {                                                                         \
+                    s = lanes[0];                                                                                      \
+                }                                                                                                      \
+                M::accelerations(P[l], s.t, s.q, s.v, s.a);                                                            \
             }                                                                                                          \
             const std::vector<LaneState> start = lanes;                                                                \
             CHECK(call_lanes(kernel, lanes, n, ne));                                                                   \
             for (std::size_t l = 0; l < W; ++l) {                                                                      \
+                INFO("lane " << l);                                                                                    \
                 std::vector<LaneState> alone(W, start[l]);                                                             \
-                CHECK(call_lanes(kernel, alone, n, ne));                                                               \
+                CHECK(call_lanes([&](auto... x) { return M::rk4_step_values_lanes(P[l], x...); }, alone, n, ne));     \
                 CHECK(same_bits(alone[0].q, lanes[l].q));                                                              \
                 CHECK(same_bits(alone[0].v, lanes[l].v));                                                              \
                 CHECK(same_bits(alone[0].a, lanes[l].a));                                                              \
@@ -118,7 +132,7 @@ bool call_lanes(Fn&& kernel, std::vector<LaneState>& lanes, std::size_t n, std::
                 /* the scalar kernel */                                                                                \
                 std::vector<double> q = start[l].q, v = start[l].v, a = start[l].a, g(ne);                             \
                 double E = 0;                                                                                          \
-                CHECK(M::rk4_step_values(P, start[l].t, start[l].h, start[l].t1, q, v, a, E, g));                      \
+                CHECK(M::rk4_step_values(P[l], start[l].t, start[l].h, start[l].t1, q, v, a, E, g));                   \
                 for (std::size_t i = 0; i < n; ++i) {                                                                  \
                     CHECK(close(q[i], lanes[l].q[i], 1e-14));                                                          \
                     CHECK(close(v[i], lanes[l].v[i], 1e-14));                                                          \
@@ -135,67 +149,8 @@ bool call_lanes(Fn&& kernel, std::vector<LaneState>& lanes, std::size_t n, std::
         }                                                                                                              \
     } while (0)
 
-/// At random states of model NS, each lane with its own parameters (`vary(P, l)` makes lane l's
-/// from the defaults): each lane of one rk4_step_values_lanes_each call is its state with its
-/// parameters alone (rk4_step_values_lanes, every lane the same), bit for bit, and rk4_step_values
-/// with them within rounding.
-#define PHYNJO_LANES_OWN_PARAMETERS(NS, vary)                                                                          \
-    do {                                                                                                               \
-        namespace M = NS;                                                                                              \
-        INFO(#NS);                                                                                                     \
-        constexpr std::size_t n = M::dof, ne = M::n_events;                                                            \
-        std::vector<M::Parameters> P(W);                                                                               \
-        std::vector<const void*> each(W);                                                                              \
-        for (std::size_t l = 0; l < W; ++l) {                                                                          \
-            vary(P[l], l);                                                                                             \
-            each[l] = &P[l];                                                                                           \
-        }                                                                                                              \
-        auto kernel = [&](auto... x) { return M::rk4_step_values_lanes_each(each.data(), x...); };                     \
-        std::mt19937_64 rng(20261203);                                                                                 \
-        std::uniform_real_distribution<double> d(-2.0, 2.0);                                                          \
-        for (int trial = 0; trial < 50; ++trial) {                                                                     \
-            std::vector<LaneState> lanes(W);                                                                           \
-            for (std::size_t l = 0; l < W; ++l) {                                                                      \
-                LaneState& s = lanes[l];                                                                               \
-                s.q.resize(n);                                                                                         \
-                s.v.resize(n);                                                                                         \
-                s.a.resize(n);                                                                                         \
-                for (auto& x : s.q) x = d(rng);                                                                        \
-                for (auto& x : s.v) x = d(rng);                                                                        \
-                s.t = 1 + d(rng);                                                                                      \
-                s.h = 0.01 * (2.5 + d(rng));                                                                           \
-                s.t1 = s.t + s.h;                                                                                      \
-                M::accelerations(P[l], s.t, s.q, s.v, s.a);                                                            \
-            }                                                                                                          \
-            /* one state in every lane: the lanes differ by their parameters alone */                                 \
-            if (trial % 2 == 1)                                                                                        \
-                for (std::size_t l = 1; l < W; ++l) {                                                                  \
-                    lanes[l] = lanes[0];                                                                               \
-                    M::accelerations(P[l], lanes[l].t, lanes[l].q, lanes[l].v, lanes[l].a);                            \
-                }                                                                                                      \
-            const std::vector<LaneState> start = lanes;                                                                \
-            CHECK(call_lanes(kernel, lanes, n, ne));                                                                   \
-            for (std::size_t l = 0; l < W; ++l) {                                                                      \
-                INFO("lane " << l);                                                                                    \
-                std::vector<LaneState> alone(W, start[l]);                                                             \
-                CHECK(call_lanes([&](auto... x) { return M::rk4_step_values_lanes(P[l], x...); }, alone, n, ne));     \
-                CHECK(same_bits(alone[0].q, lanes[l].q));                                                              \
-                CHECK(same_bits(alone[0].v, lanes[l].v));                                                              \
-                CHECK(same_bits(alone[0].a, lanes[l].a));                                                              \
-                CHECK(same_bits(alone[0].g, lanes[l].g));                                                              \
-                CHECK(same_bits(alone[0].E, lanes[l].E));                                                              \
-                std::vector<double> q = start[l].q, v = start[l].v, a = start[l].a, g(ne);                             \
-                double E = 0;                                                                                          \
-                CHECK(M::rk4_step_values(P[l], start[l].t, start[l].h, start[l].t1, q, v, a, E, g));                   \
-                for (std::size_t i = 0; i < n; ++i) {                                                                  \
-                    CHECK(close(q[i], lanes[l].q[i], 1e-14));                                                          \
-                    CHECK(close(v[i], lanes[l].v[i], 1e-14));                                                          \
-                    CHECK(close(a[i], lanes[l].a[i], 1e-13));                                                          \
-                }                                                                                                      \
-                CHECK(close(E, lanes[l].E, 1e-14));                                                                    \
-            }                                                                                                          \
-        }                                                                                                              \
-    } while (0)
+/// The defaults in every lane.
+constexpr auto same = [](auto&, std::size_t) {};
 
 /// A batch of runs of `sys`: run_many in order, reversed, and one at a time give every run the
 /// same summary and trajectory, bit for bit; run_one agrees to `rel` (status, reason, the
@@ -337,31 +292,31 @@ TEST_CASE("lanes.hpp: each lane is its own function value, wherever it sits and 
 
 TEST_CASE("rk4_step_values_lanes: each lane is its run alone, bit for bit, and rk4_step_values to rounding",
           "[lanes][kernels]") {
-    PHYNJO_LANES_AGREE(flip_pendulum);
-    PHYNJO_LANES_AGREE(pendulum);
-    PHYNJO_LANES_AGREE(driven);
-    PHYNJO_LANES_AGREE(two_balls);
+    PHYNJO_LANES_AGREE(flip_pendulum, same);
+    PHYNJO_LANES_AGREE(pendulum, same);
+    PHYNJO_LANES_AGREE(driven, same);
+    PHYNJO_LANES_AGREE(two_balls, same);
 }
 
 TEST_CASE("rk4_step_values_lanes_each: each lane with its own parameters is its run alone, bit for bit",
           "[lanes][kernels]") {
-    PHYNJO_LANES_OWN_PARAMETERS(flip_pendulum, [](flip_pendulum::Parameters& p, std::size_t l) {
+    PHYNJO_LANES_AGREE(flip_pendulum, [](flip_pendulum::Parameters& p, std::size_t l) {
         p.g = 9.81 + 0.7 * static_cast<double>(l);
         p.l2 = 1.0 / (1.0 + static_cast<double>(l));
         p.m1 = 1.0 + 0.25 * static_cast<double>(l * l);
     });
     // I = Mp R²/2 follows Mp and R lane by lane, or is set in one lane
-    PHYNJO_LANES_OWN_PARAMETERS(physical_pendulum, [](physical_pendulum::Parameters& p, std::size_t l) {
+    PHYNJO_LANES_AGREE(physical_pendulum, [](physical_pendulum::Parameters& p, std::size_t l) {
         p.Mp = 2.0 + static_cast<double>(l);
         p.R = 0.5 - 0.1 * static_cast<double>(l % 2);
         if (l == 1) p.I = 0.77;
     });
     // sin(alpha) and the derived s0 = sin(alpha)/2 + 1/10: functions of the parameters alone
-    PHYNJO_LANES_OWN_PARAMETERS(incline, [](incline::Parameters& p, std::size_t l) {
+    PHYNJO_LANES_AGREE(incline, [](incline::Parameters& p, std::size_t l) {
         p.alpha = 0.4 + 0.3 * static_cast<double>(l);
         p.k = 3.0 + static_cast<double>(l);
     });
-    PHYNJO_LANES_OWN_PARAMETERS(driven, [](driven::Parameters& p, std::size_t l) {
+    PHYNJO_LANES_AGREE(driven, [](driven::Parameters& p, std::size_t l) {
         p.u = 0.3 - 0.2 * static_cast<double>(l);
         p.w = 1.2 + 0.5 * static_cast<double>(l);
     });
