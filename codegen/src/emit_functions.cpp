@@ -172,6 +172,11 @@ std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const N
     // expression is the public function's own: the same bits.
     const std::size_t ne = m.events.size();
     const std::string glue = " // (one file with accelerations_energy_guards)\n";
+    // The cores' bodies in generic form (`const auto`, lanes.hpp's math, outputs as<T>) only
+    // where they are instantiated for lanes too; elsewhere (constraints, three coordinates or
+    // more: T is double alone) in plain form, `const double` and std:: — the same bits, and
+    // 7% less C++ for g++ to read on nlink_cart(40).
+    const bool generic = has_lane_kernel(m);
     // a core's pointers that its body does not read (a constant force, guards of t only)
     auto unread = [](const std::string& b) {
         return std::string(b.find("q[") == std::string::npos ? "    (void)q;\n" : "") +
@@ -181,7 +186,7 @@ std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const N
         // M and f from one CSE pass, then the solve
         std::vector<Expr> all = upper;
         all.insert(all.end(), eom.forcing.begin(), eom.forcing.end());
-        const std::string b = body(names, all, res, uses_t, uses_p, true);
+        const std::string b = body(names, all, res, uses_t, uses_p, generic);
         s << "template <class T, class PT>\n"
           << "[[maybe_unused]] static inline void accelerations_core(const PT& P, T t, const T* q, const T* qdot,\n"
           << "                                                     T* qddot) {\n"
@@ -227,7 +232,7 @@ std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const N
         std::vector<Expr> guards;
         for (const Event& e : m.events) guards.push_back(e.guard);
         guards = cas::horner(guards);
-        const std::string b = ne > 0 ? body(names, guards, res, uses_t, uses_p, true) : std::string();
+        const std::string b = ne > 0 ? body(names, guards, res, uses_t, uses_p, generic) : std::string();
         if (ne == 0) uses_t = uses_p = false;
         s << "template <class T, class PT>\n"
           << "[[maybe_unused]] static inline void guards_core(const PT& P, T t, const T* q, const T* qdot, T* g) {\n"
@@ -237,7 +242,7 @@ std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const N
         s << "}" << glue << "\n";
     }
     {
-        const std::string b = body(names, {eom.energy}, res, uses_t, uses_p, true);
+        const std::string b = body(names, {eom.energy}, res, uses_t, uses_p, generic);
         s << "template <class T, class PT>\n"
           << "[[maybe_unused]] static inline T energy_core(const PT& P, T t, const T* q, const T* qdot) {\n"
           << unused(uses_t, uses_p) << unread(b) << b << "    return " << res[0] << ";\n}" << glue << "\n";
