@@ -71,15 +71,22 @@ int main(int argc, char** argv) {
     settings.t_end = t_end;
     settings.dt = dt;
     std::vector<double> v(2);
+    // a plan's runs as run_many's starts; the (th1, th2) pairs they point at live in q0s
+    using Q0 = std::array<std::pair<std::size_t, double>, 2>;
+    auto starts_of = [&v](const SweepPlan& p, std::vector<Q0>& q0s) {
+        q0s.resize(p.size());
+        std::vector<RunStart> starts(p.size());
+        for (std::size_t k = 0; k < p.size(); ++k) {
+            p.values(k, v);
+            q0s[k] = {{{0, v[0]}, {1, v[1]}}};
+            starts[k].q0 = q0s[k];
+        }
+        return starts;
+    };
     // phynjo: the sweep's runs, one thread, as run_sweep runs them (run_many): by default in
     // lanes (two or four runs at a time in SIMD registers: `lane_width`), and with --no-lanes
-    std::vector<std::array<std::pair<std::size_t, double>, 2>> q0s(plan.size());
-    std::vector<RunStart> starts(plan.size());
-    for (std::size_t k = 0; k < plan.size(); ++k) {
-        plan.values(k, v);
-        q0s[k] = {{{0, v[0]}, {1, v[1]}}};
-        starts[k].q0 = q0s[k];
-    }
+    std::vector<Q0> q0s;
+    const std::vector<RunStart> starts = starts_of(plan, q0s);
     struct Sweep {
         double sec = 0, flips = 0, worst = 0;
         std::vector<double> t;
@@ -143,13 +150,8 @@ int main(int argc, char** argv) {
             // phynjo's sweep (lanes, the default) on the same 8 x 8 runs
             SweepPlan small;
             small.grid = {SweepAxis{"th1", -3, 3, 8}, SweepAxis{"th2", -3, 3, 8}};
-            std::vector<std::array<std::pair<std::size_t, double>, 2>> small_q0(small.size());
-            std::vector<RunStart> small_starts(small.size());
-            for (std::size_t k = 0; k < small.size(); ++k) {
-                small.values(k, v);
-                small_q0[k] = {{{0, v[0]}, {1, v[1]}}};
-                small_starts[k].q0 = small_q0[k];
-            }
+            std::vector<Q0> small_q0;
+            const std::vector<RunStart> small_starts = starts_of(small, small_q0);
             std::vector<RunSummary> small_out(small.size());
             const auto t2 = Clock::now();
             run_many(sys, small_starts, settings, small_out);

@@ -161,7 +161,7 @@ std::vector<RunSummary> check_batch(const LagrangianSystem& sys,
                                     const std::vector<std::vector<std::pair<std::size_t, double>>>& v0,
                                     const RunSettings& settings, double rel,
                                     const std::vector<const LagrangianSystem*>& systems = {}) {
-    REQUIRE(sys.rk4_step_values_lanes);
+    REQUIRE(sys.rk4_step_values_lanes_each);
     REQUIRE((systems.empty() || systems.size() == q0.size()));
     auto system_of = [&](std::size_t k) -> const LagrangianSystem& { return systems.empty() || !systems[k] ? sys : *systems[k]; };
     CHECK(sys.lane_width == W); // the model's width, as compiled (the same flags here)

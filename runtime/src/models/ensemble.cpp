@@ -484,7 +484,7 @@ void run_many(const LagrangianSystem& sys, std::span<const RunStart> starts, con
     for (std::size_t k = 0; lanes && k < starts.size(); ++k) {
         const LagrangianSystem& s = system_of(k);
         lanes = fast_path(s, settings) && s.rk4_step_values_lanes_each && s.parameters && s.parameters_type &&
-                *s.parameters_type == *system_of(0).parameters_type && s.lane_width == system_of(0).lane_width;
+                *s.parameters_type == *system_of(0).parameters_type; // one model: one lane width
     }
     if (!lanes) {
         for (std::size_t k = 0; k < starts.size(); ++k) {
@@ -506,7 +506,7 @@ void run_many(const LagrangianSystem& sys, std::span<const RunStart> starts, con
     std::vector<std::size_t> index(W);
     std::vector<const KernelCall*> call(W);
     std::vector<double> t(W), h(W), t1(W), q(n * W), v(n * W), a(n * W), e(W), g(ne * W);
-    std::vector<const void*> parameters(W);
+    std::vector<const void*> parameters(W), slot_parameters(W); // slot_parameters: each slot's run's, set in fill
     std::size_t next = 0;
     auto retire = [&](std::size_t l) {
         out[index[l]] = slot[l]->summary();
@@ -516,6 +516,7 @@ void run_many(const LagrangianSystem& sys, std::span<const RunStart> starts, con
     auto fill = [&](std::size_t l) { // the next run that needs a call, in order
         while (!slot[l] && next < starts.size()) {
             index[l] = next;
+            slot_parameters[l] = system_of(next).parameters.get();
             slot[l] = std::make_unique<FastRun>(system_of(next), starts[next].q0, starts[next].v0, settings, starts[next].trajectory);
             ++next;
             call[l] = slot[l]->next();
@@ -525,7 +526,7 @@ void run_many(const LagrangianSystem& sys, std::span<const RunStart> starts, con
     // lane `l` of the buffers from slot `s`'s run, and back
     auto gather = [&](std::size_t l, std::size_t s) {
         FastRun& f = *slot[s];
-        parameters[l] = system_of(index[s]).parameters.get();
+        parameters[l] = slot_parameters[s];
         t[l] = call[s]->t;
         h[l] = call[s]->h;
         t1[l] = call[s]->t1;

@@ -60,18 +60,14 @@ struct LagrangianSystem {
     std::function<bool(double t, double h, double t1, std::span<double> q, std::span<double> qdot, std::span<double> qddot,
                        double& E, std::span<double> g)>
         rk4_step_values;
-    /// rk4_step_values for lane_width runs at once (generated `rk4_step_values_lanes`, for
-    /// models without constraints of one or two coordinates): arrays by component, run l's
-    /// q_i at q[i*lane_width + l]; false when some run's values failed; throws what
-    /// rk4_step_values throws for some run. Empty when the model has none.
-    std::function<bool(const double* t, const double* h, const double* t1, double* q, double* qdot, double* qddot,
-                       double* E, double* g)>
-        rk4_step_values_lanes;
-    /// The runs per call of rk4_step_values_lanes (lanes::kWidth where the model was compiled).
+    /// The runs per call of rk4_step_values_lanes_each (lanes::kWidth where the model was compiled).
     std::size_t lane_width = 0;
-    /// rk4_step_values_lanes with a run's own parameters in each lane (generated
-    /// `rk4_step_values_lanes_each`): `parameters[l]` is the `parameters` of run l's system, a
-    /// system of the same model (the same `parameters_type`). Empty when the model has none.
+    /// rk4_step_values for lane_width runs at once, each with its own parameters (generated
+    /// `rk4_step_values_lanes_each`, for models without constraints of one or two
+    /// coordinates): arrays by component, run l's q_i at q[i*lane_width + l]; `parameters[l]` is
+    /// the `parameters` of run l's system, a system of the same model (the same
+    /// `parameters_type`); false when some run's values failed; throws what rk4_step_values
+    /// throws for some run. Empty when the model has none.
     std::function<bool(const void* const* parameters, const double* t, const double* h, const double* t1, double* q,
                        double* qdot, double* qddot, double* E, double* g)>
         rk4_step_values_lanes_each;
