@@ -2,7 +2,8 @@
 // velocities). See second_order_linear_solver.hpp.
 #include "second_order_linear_solver.hpp"
 
-#include <Eigen/Dense>
+#include "velocity_schur.hpp"
+
 #include <nvector/nvector_serial.h>
 #include <sunmatrix/sunmatrix_dense.h>
 
@@ -11,21 +12,12 @@
 
 namespace phynjo::runtime::sundials {
 
-/// The solver's content: γ and J as last formed, the LU of S, a work vector.
+/// The solver's content: γ as last formed, the block elimination and the LU of S.
 struct SecondOrderNewton::Factor {
-    explicit Factor(Eigen::Index n_) : n(n_), lu(n_), r(n_) {}
-    Eigen::Index n;
+    explicit Factor(std::size_t n) : schur(n) {}
+    integrators::VelocitySchur schur;
     double gamma = 0;
-    const double* J = nullptr;
-    Eigen::PartialPivLU<Eigen::MatrixXd> lu;
-    Eigen::VectorXd r;
     long last_flag = 0;
-
-    /// J_q: rows n…2n−1, columns 0…n−1 of the row-major (2n)×(2n) J.
-    [[nodiscard]] auto Jq() const {
-        using Rows = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-        return Eigen::Map<const Rows, 0, Eigen::OuterStride<>>(J + 2 * n * n, n, n, Eigen::OuterStride<>(2 * n));
-    }
 };
 
 namespace {
@@ -38,25 +30,15 @@ SUNLinearSolver_Type get_type(SUNLinearSolver) { return SUNLINEARSOLVER_DIRECT; 
 SUNLinearSolver_ID get_id(SUNLinearSolver) { return SUNLINEARSOLVER_CUSTOM; }
 int initialize(SUNLinearSolver) { return SUNLS_SUCCESS; }
 
-int setup(SUNLinearSolver s, SUNMatrix A) {
+int setup(SUNLinearSolver s, SUNMatrix) {
     auto& f = factor(s);
-    f.lu.compute(Eigen::Map<const Eigen::MatrixXd>(SM_DATA_D(A), f.n, f.n)); // column-major, as SUNDIALS stores it
-    // a zero pivot: recoverable (CVODE retries with a smaller step)
-    for (Eigen::Index i = 0; i < f.n; ++i)
-        if (f.lu.matrixLU()(i, i) == 0.0) return static_cast<int>(f.last_flag = i + 1);
-    return static_cast<int>(f.last_flag = SUNLS_SUCCESS);
+    // a zero pivot k: the positive flag k + 1, recoverable (CVODE retries with a smaller step)
+    return static_cast<int>(f.last_flag = static_cast<long>(f.schur.factor(f.gamma)));
 }
 
 int solve(SUNLinearSolver s, SUNMatrix, N_Vector x, N_Vector b, double) {
     auto& f = factor(s);
-    const Eigen::Index n = f.n;
-    const Eigen::Map<const Eigen::VectorXd> b1(N_VGetArrayPointer(b), n), b2(N_VGetArrayPointer(b) + n, n);
-    Eigen::Map<Eigen::VectorXd> x1(N_VGetArrayPointer(x), n), x2(N_VGetArrayPointer(x) + n, n);
-    f.r.noalias() = f.gamma * (f.Jq() * b1);
-    f.r += b2; // before x is written: x and b may be one vector
-    x1 = b1;
-    x2 = f.lu.solve(f.r);
-    x1 += f.gamma * x2;
+    f.schur.solve(N_VGetArrayPointer(b), N_VGetArrayPointer(x));
     return static_cast<int>(f.last_flag = SUNLS_SUCCESS);
 }
 
@@ -73,7 +55,7 @@ int free_solver(SUNLinearSolver s) {
 } // namespace
 
 SecondOrderNewton::SecondOrderNewton(std::size_t n, SUNContext ctx) {
-    auto content = std::make_unique<Factor>(static_cast<Eigen::Index>(n));
+    auto content = std::make_unique<Factor>(n);
     const auto N = static_cast<sunindextype>(n);
     matrix_ = SUNDenseMatrix(N, N, ctx);
     solver_ = SUNLinSolNewEmpty(ctx);
@@ -99,15 +81,8 @@ SecondOrderNewton::~SecondOrderNewton() {
 
 void SecondOrderNewton::form(const double* J, double gamma) {
     auto& f = factor(solver_);
-    const Eigen::Index n = f.n;
-    f.J = J;
+    f.schur.set_jacobian(J);
     f.gamma = gamma;
-    Eigen::Map<Eigen::MatrixXd> S(SM_DATA_D(matrix_), n, n);
-    for (Eigen::Index j = 0; j < n; ++j)
-        for (Eigen::Index i = 0; i < n; ++i) {
-            const double* row = J + (n + i) * 2 * n;
-            S(i, j) = (i == j ? 1.0 : 0.0) - gamma * row[n + j] - gamma * gamma * row[j];
-        }
 }
 
 } // namespace phynjo::runtime::sundials

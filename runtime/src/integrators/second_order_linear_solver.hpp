@@ -14,11 +14,13 @@ namespace phynjo::runtime::sundials {
 /// J = [[0, I], [J_q, J_v]]. Block elimination with the identity as pivot leaves the n×n
 /// Schur complement on the velocities,
 ///     S = I − γJ_v − γ²J_q,   x₂ = S⁻¹(b₂ + γJ_q b₁),   x₁ = b₁ + γx₂,
-/// factorized by LU with partial pivoting: 1/8 of the flops of the 2n×2n LU, 1/4 of its
-/// solves, and no 2n×2n matrix to copy and scale at every setup.
-/// Used through CVODE's linear-system function (CVodeSetLinSysFn): form() writes S into
-/// matrix() and remembers γ and J; CVODE then calls the solver's setup (the LU of S; a zero
-/// pivot is a recoverable failure) and solve. No allocation after construction.
+/// factorized by LU with partial pivoting within its band (velocity_schur.hpp, shared with
+/// Bdf): at most 1/8 of the flops of the 2n×2n LU, 1/4 of its solves, and no 2n×2n matrix to
+/// copy and scale at every setup.
+/// Used through CVODE's linear-system function (CVodeSetLinSysFn): form() remembers γ and J;
+/// CVODE then calls the solver's setup (S formed and factored; a zero pivot is a recoverable
+/// failure) and solve. matrix() is the dense matrix CVODE asks for, unused. No allocation
+/// in a steady run.
 class SecondOrderNewton {
 public:
     /// Throws std::bad_alloc when SUNDIALS cannot allocate.
@@ -29,8 +31,8 @@ public:
 
     [[nodiscard]] SUNLinearSolver solver() const { return solver_; }
     [[nodiscard]] SUNMatrix matrix() const { return matrix_; }
-    /// S = I − γJ_v − γ²J_q into matrix(), from J ((2n)×(2n), row-major; read again by the
-    /// solves, so it must stay unchanged until the next form()).
+    /// γ and J ((2n)×(2n), row-major) of the next setup; J is read again by the setup and
+    /// the solves, so it must stay unchanged until the next form().
     void form(const double* J, double gamma);
 
     struct Factor;
