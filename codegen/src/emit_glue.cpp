@@ -87,8 +87,9 @@ std::string emit_glue(const Model& m, bool mass_depends_on_velocities) {
       << "    if (integrator == \"rattle\") return phynjo::runtime::lagrangian_rattle(s, world.layout_ptr());\n"
       << "    if (integrator == \"cvode\") return phynjo::runtime::lagrangian_cvode(s, world.layout_ptr());\n"
       << "    if (integrator == \"ida\") return phynjo::runtime::lagrangian_ida(s, world.layout_ptr());\n"
+      << "    if (integrator == \"bdf\") return phynjo::runtime::lagrangian_bdf(s, world.layout_ptr());\n"
       << "    throw std::invalid_argument(\"" << m.name
-      << "::workflow: unknown integrator '\" + std::string(integrator) + \"' (rk4, midpoint, rattle, cvode or ida)\");\n"
+      << "::workflow: unknown integrator '\" + std::string(integrator) + \"' (rk4, midpoint, rattle, cvode, ida or bdf)\");\n"
       << "}\n} // namespace\n\n"
       << "phynjo::runtime::LagrangianSystem system(const Parameters& P) {\n"
       << "    auto held = std::make_shared<const Parameters>(P);\n"

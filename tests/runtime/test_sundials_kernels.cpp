@@ -4,6 +4,7 @@
 // SUNDIALS' own.
 #include "second_order_linear_solver.hpp"
 #include "serial_vector_ops.hpp"
+#include "velocity_schur.hpp"
 
 #include <Eigen/Dense>
 #include <catch2/catch.hpp>
@@ -86,6 +87,82 @@ TEST_CASE("SecondOrderNewton: a singular Schur complement is a recoverable setup
     SecondOrderNewton newton(n, c.ctx);
     newton.form(J.data(), gamma);
     CHECK(SUNLinSolSetup(newton.solver(), newton.matrix()) > 0);
+}
+
+// Bugs caught: U's fill from the interchanges cut off (kl + ku superdiagonals, not ku), a
+// pivot search that stops short of row k + kl, the interchanges not replayed in the forward
+// substitution or replayed on the multipliers, the bandwidths read off the wrong triangle, a
+// fixed-width substitution picked for the wrong (kl, ku) (kl = 0, ku = 3 is not kl = 1,
+// ku = 0), the band's rows past n not zero. Oracle: Eigen's full-pivoting dense LU.
+TEST_CASE("BandedLu: solves = a dense LU, for every bandwidth, with interchanges", "[runtime][sundials]") {
+    using phynjo::runtime::integrators::BandedLu;
+    std::mt19937_64 rng(20261202);
+    std::uniform_real_distribution<double> u(-1, 1);
+    for (const std::size_t n : {1UL, 2UL, 5UL, 12UL, 30UL})
+        for (const std::size_t kl : {0UL, 1UL, 2UL, 3UL, 7UL})
+            for (const std::size_t ku : {0UL, 1UL, 2UL, 3UL, 11UL})
+                for (const double diagonal : {0.0, 4.0}) { // 0: small pivots, the interchanges needed
+                    INFO("n = " << n << ", kl = " << kl << ", ku = " << ku << ", diagonal " << diagonal);
+                    std::vector<double> A(n * n, 0.0);
+                    for (std::size_t i = 0; i < n; ++i)
+                        for (std::size_t j = 0; j < n; ++j)
+                            if (j + kl >= i && j <= i + ku) A[i * n + j] = u(rng) + (i == j ? diagonal : 0.0);
+                    Eigen::MatrixXd M(n, n);
+                    for (std::size_t i = 0; i < n; ++i)
+                        for (std::size_t j = 0; j < n; ++j) M(i, j) = A[i * n + j];
+                    BandedLu lu;
+                    REQUIRE(lu.factor(A, n) == 0);
+                    CHECK(lu.lower() == std::min(kl, n - 1));
+                    CHECK(lu.upper() == std::min(ku, n - 1));
+                    Eigen::VectorXd b(n);
+                    for (std::size_t i = 0; i < n; ++i) b(i) = u(rng);
+                    const Eigen::VectorXd ref = M.fullPivLu().solve(b);
+                    Eigen::VectorXd x = b;
+                    lu.solve(x.data());
+                    CHECK((M * x - b).norm() <= 1e-11 * (M.norm() * x.norm() + b.norm()));
+                    CHECK((x - ref).norm() <= 1e-8 * (1 + ref.norm()));
+                }
+    // an exactly singular band matrix: a zero pivot, reported with its index
+    const std::vector<double> S = {1, 2, 0, 2, 4, 0, 0, 0, 3}; // rows 0 and 1 parallel
+    BandedLu lu;
+    CHECK(lu.factor(S, 3) == 2);
+}
+
+// Bugs caught: the band of S read off J_q alone (J_v's couplings dropped), J_q b₁ over a
+// range that misses its last column, set_jacobian's ranges kept from an earlier J.
+TEST_CASE("VelocitySchur: a banded J (a chain) and then a dense one = a dense solve of (I − cJ)", "[runtime][sundials]") {
+    using phynjo::runtime::integrators::VelocitySchur;
+    std::mt19937_64 rng(5);
+    std::uniform_real_distribution<double> u(-1, 1);
+    const std::size_t n = 9, N = 2 * n;
+    VelocitySchur schur(n);
+    for (const int pass : {0, 1, 2}) { // 0: J_q tridiagonal, J_v two above the diagonal; 1: dense; 2: banded again
+        std::vector<double> J(N * N, 0.0);
+        for (std::size_t i = 0; i < n; ++i) J[i * N + n + i] = 1.0;
+        for (std::size_t i = 0; i < n; ++i)
+            for (std::size_t j = 0; j < n; ++j) {
+                const bool q = pass == 1 || (j + 1 >= i && j <= i + 1), v = pass == 1 || j == i + 2;
+                if (q) J[(n + i) * N + j] = 1e3 * u(rng);
+                if (v) J[(n + i) * N + n + j] = 10 * u(rng);
+            }
+        for (const double c : {1e-5, 0.02, 0.7}) {
+            INFO("pass " << pass << ", c = " << c);
+            Eigen::MatrixXd A = Eigen::MatrixXd::Identity(N, N);
+            for (std::size_t i = 0; i < N; ++i)
+                for (std::size_t j = 0; j < N; ++j) A(i, j) -= c * J[i * N + j];
+            schur.set_jacobian(J.data());
+            REQUIRE(schur.factor(c) == 0);
+            CHECK(schur.lu().lower() == (pass == 1 ? n - 1 : 1));
+            CHECK(schur.lu().upper() == (pass == 1 ? n - 1 : 2));
+            Eigen::VectorXd b(N);
+            for (std::size_t i = 0; i < N; ++i) b(i) = u(rng);
+            Eigen::VectorXd x(N);
+            schur.solve(b.data(), x.data());
+            CHECK((A * x - b).norm() <= 1e-11 * (A.norm() * x.norm() + b.norm()));
+            schur.solve(b.data(), b.data()); // in place
+            CHECK((b - x).norm() == 0);
+        }
+    }
 }
 
 // Bugs caught: a case of N_VLinearSum_Serial computed another way (a·x + a·y for a·(x + y),

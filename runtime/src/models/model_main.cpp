@@ -1,6 +1,7 @@
 // The command-line driver every generated simulator links (model_main.hpp).
 #include "phynjo/runtime/models/model_main.hpp"
 
+#include "phynjo/runtime/integrators/bdf.hpp"
 #include "phynjo/runtime/integrators/cvode.hpp"
 #include "phynjo/runtime/integrators/ida.hpp"
 #include "phynjo/runtime/integrators/dormand_prince.hpp"
@@ -38,7 +39,7 @@ void help(const char* prog, const ModelCommandLine& model, const LagrangianSyste
     for (const auto& n : sys.coordinate_names) coords += (coords.empty() ? "" : ", ") + n;
     std::string events;
     for (const auto& n : sys.event_names) events += (events.empty() ? "" : ", ") + n;
-    std::printf("usage: %s [--t-end T] [--dt DT] [--integrator rk4|dopri|midpoint|rattle|cvode|ida] [--every K]\n"
+    std::printf("usage: %s [--t-end T] [--dt DT] [--integrator rk4|dopri|midpoint|rattle|cvode|ida|bdf] [--every K]\n"
                 "          [--param NAME=VALUE]... [--init NAME=VALUE[,NAME'=VALUE]...]... [--output FILE]\n"
                 "          [--energy-tolerance TOL [--fail-on-drift]] [--project-initial]\n"
                 "          [--projection-tolerance TOL] [--rtol R] [--atol A]\n"
@@ -55,10 +56,12 @@ void help(const char* prog, const ModelCommandLine& model, const LagrangianSyste
                 "                         constraints too), cvode (SUNDIALS CVODE: variable-order BDF\n"
                 "                         with the exact Jacobian, for stiff models), or ida (SUNDIALS IDA:\n"
                 "                         BDF on the equations with their constraints, stabilized index 2,\n"
-                "                         constraints held at every step); cvode and ida take their own\n"
-                "                         steps between the rows and print their step counts on stderr\n"
-                "  --rtol R, --atol A     cvode, ida and dopri: relative and absolute tolerances (defaults:\n"
-                "                         cvode and ida 1e-8 and 1e-10, dopri 1e-9 and 1e-12)\n"
+                "                         constraints held at every step), or bdf (phynjo's own variable-\n"
+                "                         order BDF with the exact Jacobian, for stiff models without\n"
+                "                         constraints); cvode, ida and bdf take their own steps between\n"
+                "                         the rows and print their step counts on stderr\n"
+                "  --rtol R, --atol A     cvode, ida, bdf and dopri: relative and absolute tolerances\n"
+                "                         (defaults: cvode, ida and bdf 1e-8 and 1e-10, dopri 1e-9, 1e-12)\n"
                 "  --every K              write every K-th step (default: about 5000 rows); the first and\n"
                 "                         the last row are always written; t is exactly k*DT\n"
                 "  --param NAME=VALUE     set a parameter (repeatable); parameters: %s\n"
@@ -245,10 +248,10 @@ int model_main(int argc, char** argv, const ModelCommandLine& model, SweepProces
         if (!(dt > 0)) throw UsageError{"--dt must be positive"};
         if (!(t_end >= 0)) throw UsageError{"--t-end must not be negative"};
         if (integrator != "rk4" && integrator != "dopri" && integrator != "midpoint" && integrator != "rattle" &&
-            integrator != "cvode" && integrator != "ida")
-            throw UsageError{"--integrator must be rk4, dopri, midpoint, rattle, cvode or ida, not '" + integrator + "'"};
-        if ((rtol || atol) && integrator != "cvode" && integrator != "ida" && integrator != "dopri")
-            throw UsageError{"--rtol and --atol go with --integrator cvode, ida or dopri"};
+            integrator != "cvode" && integrator != "ida" && integrator != "bdf")
+            throw UsageError{"--integrator must be rk4, dopri, midpoint, rattle, cvode, ida or bdf, not '" + integrator + "'"};
+        if ((rtol || atol) && integrator != "cvode" && integrator != "ida" && integrator != "bdf" && integrator != "dopri")
+            throw UsageError{"--rtol and --atol go with --integrator cvode, ida, bdf or dopri"};
         if (fail_on_drift && !energy_tolerance) throw UsageError{"--fail-on-drift needs --energy-tolerance"};
         if (sweeping) {
             if (sweep.summary.empty()) throw UsageError{"a sweep (--grid, --uniform, --samples) needs --summary FILE"};
@@ -421,11 +424,11 @@ int model_main(int argc, char** argv, const ModelCommandLine& model, SweepProces
             if (k % every == 0 || k == total) row();
             return true;
         };
-        // a SUNDIALS solver: its own steps between the rows, its counters on stderr
+        // a variable-step BDF (CVODE, IDA, Bdf): its own steps between the rows, its counters on stderr
         auto run_sundials = [&](auto solver_tag, const char* name) {
             using Solver = typename decltype(solver_tag)::type;
             typename Solver::Options o;
-            o.projection = projection;
+            if constexpr (requires { o.projection; }) o.projection = projection;
             if (rtol) o.rtol = *rtol;
             if (atol) o.atol = *atol;
             Solver solver(sys, o);
@@ -439,6 +442,8 @@ int model_main(int argc, char** argv, const ModelCommandLine& model, SweepProces
             run_sundials(std::type_identity<Cvode>{}, "cvode");
         } else if (integrator == "ida") {
             run_sundials(std::type_identity<Ida>{}, "ida");
+        } else if (integrator == "bdf") {
+            run_sundials(std::type_identity<Bdf>{}, "bdf");
         } else if (integrator == "dopri") {
             DormandPrince45::Options dopts;
             dopts.projection = projection;
