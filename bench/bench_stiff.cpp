@@ -22,57 +22,41 @@ namespace {
 
 using namespace phynjo::runtime;
 
+/// A solver's best of 7 runs from the initial state to 20 s: the time, its counters, x1..x3.
+template <class Solver>
 struct Run {
     double seconds = 1e300;
-    Cvode::Stats stats;
+    typename Solver::Stats stats;
     double x[3] = {0, 0, 0};
 };
 
-Run run(const LagrangianSystem& s, bool exact, Cvode::Options::LinearSolver solver = Cvode::Options::LinearSolver::second_order) {
-    Run r;
+template <class Solver>
+Run<Solver> best_of_7(const LagrangianSystem& s, const typename Solver::Options& options) {
+    Run<Solver> r;
     for (int rep = 0; rep < 7; ++rep) {
         World w = make_lagrangian_world(s);
         const auto t0 = std::chrono::steady_clock::now();
-        Cvode cv(s, {.rtol = 1e-8, .atol = 1e-10, .exact_jacobian = exact, .linear_solver = solver});
-        cv.advance(w, 20.0);
+        Solver solver(s, options);
+        solver.advance(w, 20.0);
         const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         if (sec < r.seconds) {
             r.seconds = sec;
-            r.stats = cv.stats();
+            r.stats = solver.stats();
             for (int i = 0; i < 3; ++i) r.x[i] = w.at(kGQ, i);
         }
     }
     return r;
 }
 
-/// phynjo's own BDF (integrators/bdf.hpp), same tolerances, best of 7.
-struct BdfRun {
-    double seconds = 1e300;
-    Bdf::Stats stats;
-    double x[3] = {0, 0, 0};
-};
-BdfRun run_bdf(const LagrangianSystem& s) {
-    BdfRun r;
-    for (int rep = 0; rep < 7; ++rep) {
-        World w = make_lagrangian_world(s);
-        const auto t0 = std::chrono::steady_clock::now();
-        Bdf bdf(s, {.rtol = 1e-8, .atol = 1e-10});
-        bdf.advance(w, 20.0);
-        const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        if (sec < r.seconds) {
-            r.seconds = sec;
-            r.stats = bdf.stats();
-            for (int i = 0; i < 3; ++i) r.x[i] = w.at(kGQ, i);
-        }
-    }
-    return r;
+Run<Cvode> run(const LagrangianSystem& s, bool exact, Cvode::Options::LinearSolver solver = Cvode::Options::LinearSolver::second_order) {
+    return best_of_7<Cvode>(s, {.rtol = 1e-8, .atol = 1e-10, .exact_jacobian = exact, .linear_solver = solver});
 }
 
 /// CVODE exact against difference quotients, then SciPy, for one chain; prints the ratios.
 void compare(const LagrangianSystem& s, int n, const std::string& suffix) {
-    const Run exact = run(s, true), dq = run(s, false),
+    const Run<Cvode> exact = run(s, true), dq = run(s, false),
               exact_dense = run(s, true, Cvode::Options::LinearSolver::dense);
-    const BdfRun bdf = run_bdf(s);
+    const Run<Bdf> bdf = best_of_7<Bdf>(s, {.rtol = 1e-8, .atol = 1e-10}); // phynjo's own BDF, same tolerances
     std::printf("bench_stiff: stiff chain of %d masses (k1 = 1e6 N/m, critically damped; soft springs 1 N/m), 0..20 s, "
                 "rtol 1e-8, atol 1e-10\n", n);
     for (const auto* r : {&exact, &exact_dense, &dq})
