@@ -1,5 +1,6 @@
 #include "phynjo/cas/cse.hpp"
 
+#include "phynjo/cas/node_map.hpp"
 #include "phynjo/cas/transform.hpp"
 
 #include <algorithm>
@@ -47,20 +48,20 @@ std::uint64_t term_hash(Expr coef, Expr arg) noexcept {
 /// pendulum: q0' − Σ_{j≤k} l_j q_j' cos q_j) then cost O(1) each instead of O(k). Term
 /// sets are compared by an additive hash of their terms, so dropping a term is a
 /// subtraction; a hit is verified term by term. Deterministic: structural hashes only.
-std::unordered_map<const Node*, PartialSum> partial_sums(const std::vector<Expr>& nodes) {
-    std::unordered_map<const Node*, PartialSum> out;
+NodeMap<PartialSum> partial_sums(const std::vector<Expr>& nodes) {
+    NodeMap<PartialSum> out;
     auto terms = [](Expr x) { return x->nargs + (x->number.is_zero() ? 0u : 1u); };
     // term k of an Add: (coef, arg) for k < nargs, (constant, null) for k == nargs
     auto term = [](Expr x, std::uint32_t k) -> std::uint64_t {
         return k < x->nargs ? term_hash(x->coefs[k], x.args()[k]) : term_hash(x->number, Expr());
     };
     std::unordered_map<std::uint64_t, std::vector<const Node*>> by_hash;
-    std::unordered_map<const Node*, std::uint64_t> set_hash;
+    NodeMap<std::uint64_t> set_hash(nodes.size());
     for (Expr x : nodes) {
         if (x.kind() != Kind::Add) continue;
         std::uint64_t h = 0;
         for (std::uint32_t k = 0, m = terms(x); k < m; ++k) h += term(x, k);
-        set_hash.emplace(x.get(), h);
+        set_hash.try_emplace(x, h);
         by_hash[h].push_back(x.get());
     }
     // Does y have exactly x's terms but those at `drop` (sorted; x = y + the dropped terms)?
@@ -85,13 +86,13 @@ std::unordered_map<const Node*, PartialSum> partial_sums(const std::vector<Expr>
         if (x.kind() != Kind::Add) continue;
         const std::uint32_t m = terms(x);
         if (m < 3) continue;
-        const std::uint64_t h = set_hash.at(x.get());
+        const std::uint64_t h = *set_hash.find(x);
         auto find = [&](std::uint64_t key, const std::uint32_t* drop, std::size_t nd) -> bool {
             const auto it = by_hash.find(key);
             if (it == by_hash.end()) return false;
             for (const Node* y : it->second)
                 if (matches(x, Expr(y), drop, nd)) {
-                    PartialSum& p = out[x.get()];
+                    PartialSum& p = out[x];
                     p.y = y;
                     for (std::uint32_t k = 0; k < x->nargs; ++k)
                         if (std::find(drop, drop + nd, k) != drop + nd) p.rest.push_back(k);
@@ -115,12 +116,12 @@ std::unordered_map<const Node*, PartialSum> partial_sums(const std::vector<Expr>
 
 CseResult cse(std::span<const Expr> outputs, const CseOptions& options) {
     // 0. Partial sums: which sums are computed from others (extra edges x → y of the DAG).
-    std::unordered_map<const Node*, PartialSum> sums;
+    NodeMap<PartialSum> sums;
     if (options.share_partial_sums) {
         std::vector<Expr> nodes;
-        std::unordered_set<const Node*> seen;
+        NodeSet seen;
         auto visit = [&](auto&& self, Expr x) -> void {
-            if (!seen.insert(x.get()).second) return;
+            if (!seen.insert(x)) return;
             for (Expr c : x.args()) self(self, c);
             nodes.push_back(x);
         };
@@ -130,33 +131,33 @@ CseResult cse(std::span<const Expr> outputs, const CseOptions& options) {
     // the children of x in the computation: a shared partial sum's y and its other terms' args
     auto for_children = [&](Expr x, auto&& f) {
         if (x.kind() == Kind::Add) {
-            if (const auto it = sums.find(x.get()); it != sums.end()) {
-                f(Expr(it->second.y));
-                for (std::uint32_t k : it->second.rest) f(x.args()[k]);
+            if (const PartialSum* p = sums.find(x)) {
+                f(Expr(p->y));
+                for (std::uint32_t k : p->rest) f(x.args()[k]);
                 return;
             }
         }
         for (Expr c : x.args()) f(c);
     };
     // 1. Post-order of the DAG and the number of parents of each node.
-    std::unordered_map<const Node*, int> uses;
+    NodeMap<int> uses;
     std::vector<Expr> post;
-    std::unordered_set<const Node*> hoist;
+    NodeSet hoist;
     {
-        std::unordered_set<const Node*> visited;
+        NodeSet visited;
         auto visit = [&](auto&& self, Expr x) -> void {
-            if (!visited.insert(x.get()).second) return;
+            if (!visited.insert(x)) return;
             for_children(x, [&](Expr c) {
-                ++uses[c.get()];
+                ++uses[c];
                 self(self, c);
             });
             if (options.hoist_power_bases && x.kind() == Kind::Pow && x.args()[1].is_integer() &&
                 !trivial(x.args()[0]))
-                hoist.insert(x.args()[0].get());
+                hoist.insert(x.args()[0]);
             post.push_back(x);
         };
         for (Expr o : outputs) {
-            ++uses[o.get()];
+            ++uses[o];
             visit(visit, o);
         }
     }
@@ -177,18 +178,18 @@ CseResult cse(std::span<const Expr> outputs, const CseOptions& options) {
     }
     // 3. Rewrite bottom-up, replacing shared nodes by temporaries.
     CseResult result;
-    std::unordered_map<const Node*, Expr> rewritten; // node → expression in temporaries
-    std::unordered_map<const Node*, Expr> temp;      // node → its temporary
+    NodeMap<Expr> rewritten(post.size()); // node → expression in temporaries
+    NodeMap<Expr> temp;                   // node → its temporary
     auto ref = [&](Expr c) {
-        if (auto t = temp.find(c.get()); t != temp.end()) return t->second;
-        return rewritten.at(c.get());
+        if (const Expr* t = temp.find(c)) return *t;
+        return *rewritten.find(c);
     };
     for (Expr x : post) {
         Expr r = x;
-        if (const auto it = sums.find(x.get()); it != sums.end()) {
-            std::vector<Expr> ts{ref(Expr(it->second.y))};
-            for (std::uint32_t k : it->second.rest) ts.push_back(mul({x->coefs[k], ref(x.args()[k])}));
-            if (it->second.constant) ts.push_back(x->number);
+        if (const PartialSum* p = sums.find(x)) {
+            std::vector<Expr> ts{ref(Expr(p->y))};
+            for (std::uint32_t k : p->rest) ts.push_back(mul({x->coefs[k], ref(x.args()[k])}));
+            if (p->constant) ts.push_back(x->number);
             r = add(ts);
         } else if (x->nargs) {
             std::vector<Expr> a;
@@ -200,11 +201,11 @@ CseResult cse(std::span<const Expr> outputs, const CseOptions& options) {
             }
             if (!same) r = rebuild(x, a);
         }
-        rewritten.emplace(x.get(), r);
-        if (!trivial(x) && (uses[x.get()] >= 2 || hoist.count(x.get()))) {
+        rewritten.try_emplace(x, r);
+        if (!trivial(x) && (*uses.find(x) >= 2 || hoist.contains(x))) {
             const Expr t = symbol(prefix + std::to_string(result.assignments.size()));
             result.assignments.emplace_back(t, r);
-            temp.emplace(x.get(), t);
+            temp.try_emplace(x, t);
         }
     }
     for (Expr o : outputs) result.outputs.push_back(ref(o));

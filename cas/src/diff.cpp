@@ -126,9 +126,9 @@ Expr diff(Expr e, Expr var) {
         case Kind::Add: break;
         }
         const auto key = std::make_pair(x.get(), var.get());
-        if (auto it = memo.find(key); it != memo.end()) return it->second;
+        if (const Expr* m = memo.find(key)) return *m;
         Expr d = derive_compound(x, [&](Expr c) { return self(self, c); });
-        memo.emplace(key, d);
+        memo.try_emplace(key, d);
         return d;
     };
     return rec(rec, e);
@@ -153,9 +153,9 @@ Expr time_derivative(Expr e) {
         case Kind::Mul:
         case Kind::Add: break;
         }
-        if (auto it = memo.find(x.get()); it != memo.end()) return it->second;
+        if (const Expr* m = memo.find(x)) return *m;
         Expr d = derive_compound(x, [&](Expr c) { return self(self, c); });
-        memo.emplace(x.get(), d);
+        memo.try_emplace(x, d);
         return d;
     };
     return rec(rec, e);

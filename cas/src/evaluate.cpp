@@ -1,4 +1,5 @@
 #include "phynjo/cas/evaluate.hpp"
+#include "phynjo/cas/node_map.hpp"
 
 #include "phynjo/cas/errors.hpp"
 #include "phynjo/cas/print.hpp"
@@ -17,9 +18,9 @@ T number_value(Expr x) {
 }
 
 template <typename T>
-T evaluate_impl(Expr e, const Bindings<T>& values, std::unordered_map<const Node*, T>& memo) {
+T evaluate_impl(Expr e, const Bindings<T>& values, NodeMap<T>& memo) {
     auto rec = [&](auto&& self, Expr x) -> T {
-        if (auto it = memo.find(x.get()); it != memo.end()) return it->second;
+        if (const T* m = memo.find(x)) return *m;
         T r{};
         switch (x.kind()) {
         case Kind::Number: r = number_value<T>(x); break;
@@ -79,7 +80,7 @@ T evaluate_impl(Expr e, const Bindings<T>& values, std::unordered_map<const Node
         }
         if (!std::isfinite(r))
             throw EvaluationError("'" + to_string(x) + "' is not finite (" + (std::isnan(r) ? "NaN" : "infinite") + ")");
-        memo.emplace(x.get(), r);
+        memo.try_emplace(x, r);
         return r;
     };
     return rec(rec, e);
@@ -88,18 +89,18 @@ T evaluate_impl(Expr e, const Bindings<T>& values, std::unordered_map<const Node
 } // namespace
 
 double evaluate(Expr e, const Bindings<double>& values) {
-    std::unordered_map<const Node*, double> memo;
+    NodeMap<double> memo;
     return evaluate_impl<double>(e, values, memo);
 }
 std::vector<double> evaluate(std::span<const Expr> es, const Bindings<double>& values) {
-    std::unordered_map<const Node*, double> memo;
+    NodeMap<double> memo;
     std::vector<double> out;
     out.reserve(es.size());
     for (Expr e : es) out.push_back(evaluate_impl<double>(e, values, memo));
     return out;
 }
 long double evaluate_extended(Expr e, const Bindings<long double>& values) {
-    std::unordered_map<const Node*, long double> memo;
+    NodeMap<long double> memo;
     return evaluate_impl<long double>(e, values, memo);
 }
 

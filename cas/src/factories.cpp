@@ -1,5 +1,6 @@
 // The canonicalizing factories: every node is made here, in canonical form (see expr.hpp).
 #include "number_ops.hpp"
+#include "phynjo/cas/node_map.hpp"
 #include "phynjo/cas/evaluate.hpp"
 
 #include <boost/container/small_vector.hpp>
@@ -703,19 +704,19 @@ std::string_view symbol_name(Expr e) noexcept {
 int derivative_order(Expr e) noexcept { return e.kind() == Kind::TimeDerivative ? e->sub : 0; }
 
 namespace {
-void collect(Expr e, std::unordered_set<const Node*>& seen, std::vector<Expr>& stack) {
+void collect(Expr e, NodeSet& seen, std::vector<Expr>& stack) {
     stack.push_back(e);
     while (!stack.empty()) {
         Expr x = stack.back();
         stack.pop_back();
-        if (!seen.insert(x.get()).second) continue;
+        if (!seen.insert(x)) continue;
         for (Expr a : x.args()) stack.push_back(a);
     }
 }
 } // namespace
 
 std::size_t dag_size(std::span<const Expr> es) {
-    std::unordered_set<const Node*> seen;
+    NodeSet seen;
     std::vector<Expr> stack;
     for (Expr e : es) collect(e, seen, stack);
     return seen.size();
@@ -723,10 +724,10 @@ std::size_t dag_size(std::span<const Expr> es) {
 std::size_t dag_size(Expr e) { return dag_size(std::span<const Expr>(&e, 1)); }
 
 std::size_t tree_size(Expr e) {
-    std::unordered_map<const Node*, std::size_t> memo;
+    NodeMap<std::size_t> memo;
     auto rec = [&](auto&& self, Expr x) -> std::size_t {
         if (x->nargs == 0) return 1;
-        if (auto it = memo.find(x.get()); it != memo.end()) return it->second;
+        if (const std::size_t* m = memo.find(x)) return *m;
         std::size_t s = 1;
         auto sat_add = [](std::size_t a, std::size_t b) { return a > SIZE_MAX - b ? SIZE_MAX : a + b; };
         for (std::uint32_t i = 0; i < x->nargs; ++i) {
@@ -735,7 +736,7 @@ std::size_t tree_size(Expr e) {
         }
         if (x.kind() == Kind::Add && !x->number.is_zero()) s = sat_add(s, 1);
         if (x.kind() == Kind::Mul && !x->number.is_one()) s = sat_add(s, 1);
-        memo.emplace(x.get(), s);
+        memo.try_emplace(x, s);
         return s;
     };
     return rec(rec, e);

@@ -2,6 +2,7 @@
 // Internal: the pool's storage and intern table, and the helpers every factory uses.
 #include "phynjo/cas/errors.hpp"
 #include "phynjo/cas/expr.hpp"
+#include "phynjo/cas/node_map.hpp"
 #include "phynjo/cas/pool.hpp"
 
 #include <cassert>
@@ -76,14 +77,8 @@ struct PoolImpl {
     Expr small_ints[2 * small_cache + 1]{};
     Expr pi, time;
 
-    struct PairHash {
-        std::size_t operator()(const std::pair<const Node*, const Node*>& p) const noexcept {
-            return static_cast<std::size_t>(mix(reinterpret_cast<std::uintptr_t>(p.first),
-                                                reinterpret_cast<std::uintptr_t>(p.second)));
-        }
-    };
-    std::unordered_map<std::pair<const Node*, const Node*>, Expr, PairHash> diff_memo;
-    std::unordered_map<const Node*, Expr> dt_memo;
+    FlatTable<std::pair<const Node*, const Node*>, Expr, NodePairHash> diff_memo{1 << 12};
+    NodeMap<Expr> dt_memo{1 << 8};
 
 private:
     void grow();

@@ -24,31 +24,63 @@ struct Out {
 
 bool is_fn(Expr x, Function f) { return x.kind() == Kind::Function && static_cast<Function>(x->sub) == f; }
 
+/// Prints into one buffer: each pass appends its text and returns its precedence; a
+/// subexpression that needs parentheses gets them around its text in place. (Building a
+/// string per node and concatenating them cost phynjo-lagc a fifth of its time.)
 class Printer {
 public:
     Printer(Mode mode, const CppOptions* cpp, std::size_t max_chars = limits::max_printed_chars)
         : mode_(mode), cpp_(cpp), max_chars_(max_chars) {}
 
-    Out print(Expr x) {
-        Out o = print_node(x);
-        // The result must fit the limit, and so must the work: a DAG printed as a tree builds
-        // its shared parts again and again, so all text built by one call counts too (at
-        // most 4× the limit), which keeps the time linear in the limit.
-        produced_ += o.s.size();
-        if (o.s.size() > max_chars_ || produced_ > 4 * max_chars_)
-            throw LimitError("printed expression too long (more than " + std::to_string(max_chars_) + " characters)");
-        return o;
+    /// The whole text of `x`.
+    std::string run(Expr x) {
+        print(x);
+        return std::move(buf_);
     }
 
 private:
-    Out print_node(Expr x) {
+    /// Appends x's text; its precedence.
+    Prec print(Expr x) {
+        const std::size_t start = buf_.size();
+        const Prec p = print_node(x);
+        // The result must fit the limit, and so must the work: a DAG printed as a tree builds
+        // its shared parts again and again, so all text built by one call counts too (at
+        // most 4× the limit), which keeps the time linear in the limit.
+        const std::size_t n = buf_.size() - start;
+        produced_ += n;
+        if (n > max_chars_ || produced_ > 4 * max_chars_)
+            throw LimitError("printed expression too long (more than " + std::to_string(max_chars_) + " characters)");
+        return p;
+    }
+    /// x's text as a string of its own (for the rarer forms that rearrange their parts).
+    Out sub(Expr x) {
+        const std::size_t start = buf_.size();
+        const Prec p = print(x);
+        Out o{buf_.substr(start), p};
+        buf_.resize(start);
+        return o;
+    }
+    /// Appends a finished piece of text.
+    Prec put(const Out& o) {
+        buf_ += o.s;
+        return o.p;
+    }
+    /// Parentheses around the text from `start` on when its precedence `p` is below `need`.
+    void wrap_from(std::size_t start, Prec p, Prec need, bool latex = false) {
+        if (static_cast<int>(p) >= static_cast<int>(need)) return;
+        buf_.insert(start, latex ? "\\left(" : "(");
+        buf_ += latex ? "\\right)" : ")";
+    }
+
+    Prec print_node(Expr x) {
         switch (x.kind()) {
         case Kind::Number: return number(x.value());
         case Kind::Constant:
-            if (mode_ == Mode::Cpp) return {"3.141592653589793", Prec::Atom};
-            return {mode_ == Mode::Latex ? "\\pi" : "pi", Prec::Atom};
+            if (mode_ == Mode::Cpp) buf_ += "3.141592653589793";
+            else buf_ += mode_ == Mode::Latex ? "\\pi" : "pi";
+            return Prec::Atom;
         case Kind::Symbol:
-        case Kind::TimeDerivative: return {variable(x), Prec::Atom};
+        case Kind::TimeDerivative: buf_ += variable(x); return Prec::Atom;
         case Kind::Function: return function(x);
         case Kind::Pow: {
             const Expr e = x.args()[1];
@@ -61,20 +93,23 @@ private:
         case Kind::Mul: return product(x->number, x.args());
         case Kind::Add: return sum(x);
         }
-        return {"?", Prec::Atom};
+        buf_ += "?";
+        return Prec::Atom;
     }
 
     Mode mode_;
     const CppOptions* cpp_;
     std::size_t max_chars_;
     std::size_t produced_ = 0;
+    std::string buf_;
 
     static std::string wrap(const Out& o, Prec need, bool latex = false) {
         if (static_cast<int>(o.p) >= static_cast<int>(need)) return o.s;
         return latex ? "\\left(" + o.s + "\\right)" : "(" + o.s + ")";
     }
 
-    Out number(const mpq_class& q) {
+    Prec number(const mpq_class& q) { return put(number_text(q)); }
+    Out number_text(const mpq_class& q) {
         const bool neg = sgn(q) < 0;
         if (mode_ == Mode::Cpp) {
             std::string s = double_literal(to_double(q));
@@ -158,66 +193,81 @@ private:
         }
     }
 
-    Out function(Expr x) {
+    Prec function(Expr x) {
         const Function f = static_cast<Function>(x->sub);
         if (f == Function::Atan2) { // atan2(y, x)
-            const Out y = print(x.args()[0]), xx = print(x.args()[1]);
-            if (mode_ == Mode::Cpp) return {math() + "atan2(" + y.s + ", " + xx.s + ")", Prec::Atom};
-            if (mode_ == Mode::Latex) return {latex_function(f) + "{\\left(" + y.s + ", " + xx.s + " \\right)}", Prec::Atom};
-            return {"atan2(" + y.s + ", " + xx.s + ")", Prec::Atom};
+            const Out y = sub(x.args()[0]), xx = sub(x.args()[1]);
+            if (mode_ == Mode::Cpp) return put({math() + "atan2(" + y.s + ", " + xx.s + ")", Prec::Atom});
+            if (mode_ == Mode::Latex) return put({latex_function(f) + "{\\left(" + y.s + ", " + xx.s + " \\right)}", Prec::Atom});
+            return put({"atan2(" + y.s + ", " + xx.s + ")", Prec::Atom});
         }
-        Out a = print(x.args()[0]);
-        if (mode_ == Mode::Cpp) {
-            if (f == Function::Sign) {
-                if (math() != "std::") return {math() + "sign(" + a.s + ")", Prec::Atom};
-                return {"(" + a.s + " > 0 ? 1.0 : " + a.s + " < 0 ? -1.0 : 0.0)", Prec::Atom};
-            }
-            return {math() + std::string(f == Function::Abs ? "fabs" : function_name(f)) + "(" + a.s + ")", Prec::Atom};
+        if (mode_ == Mode::Cpp && f != Function::Sign) { // the common case, appended in place
+            buf_ += math();
+            buf_ += f == Function::Abs ? std::string_view("fabs") : function_name(f);
+            buf_ += '(';
+            print(x.args()[0]);
+            buf_ += ')';
+            return Prec::Atom;
+        }
+        const Out a = sub(x.args()[0]);
+        if (mode_ == Mode::Cpp) { // sign
+            if (math() != "std::") return put({math() + "sign(" + a.s + ")", Prec::Atom});
+            return put({"(" + a.s + " > 0 ? 1.0 : " + a.s + " < 0 ? -1.0 : 0.0)", Prec::Atom});
         }
         if (mode_ == Mode::Latex) {
-            if (f == Function::Exp) return {"e^{" + a.s + "}", Prec::Pow};
-            if (f == Function::Abs) return {"\\left|" + a.s + "\\right|", Prec::Atom};
-            return {latex_function(f) + "{\\left(" + a.s + " \\right)}", Prec::Atom};
+            if (f == Function::Exp) return put({"e^{" + a.s + "}", Prec::Pow});
+            if (f == Function::Abs) return put({"\\left|" + a.s + "\\right|", Prec::Atom});
+            return put({latex_function(f) + "{\\left(" + a.s + " \\right)}", Prec::Atom});
         }
-        return {std::string(function_name(f)) + "(" + a.s + ")", Prec::Atom};
+        return put({std::string(function_name(f)) + "(" + a.s + ")", Prec::Atom});
     }
 
     // b^e with e not a negative number.
-    Out power(Expr b, Expr e) {
+    Prec power(Expr b, Expr e) {
         if (e == rational(1, 2)) {
-            Out a = print(b);
-            if (mode_ == Mode::Cpp) return {math() + "sqrt(" + a.s + ")", Prec::Atom};
-            if (mode_ == Mode::Latex) return {"\\sqrt{" + a.s + "}", Prec::Atom};
-            return {"sqrt(" + a.s + ")", Prec::Atom};
+            const Out a = sub(b);
+            if (mode_ == Mode::Cpp) return put({math() + "sqrt(" + a.s + ")", Prec::Atom});
+            if (mode_ == Mode::Latex) return put({"\\sqrt{" + a.s + "}", Prec::Atom});
+            return put({"sqrt(" + a.s + ")", Prec::Atom});
         }
-        Out base = print(b);
         if (mode_ == Mode::Cpp) {
+            const std::size_t start = buf_.size();
+            const Prec base = print(b);
             if (e.is_integer() && abs(e.value()) <= cpp_max_power()) {
                 const long n = e.value().get_num().get_si();
-                const bool simple = base.p == Prec::Atom;
+                const bool simple = base == Prec::Atom;
                 if (simple || n <= 3) {
-                    std::string s = wrap(base, Prec::Atom);
-                    std::string r = s;
-                    for (long k = 1; k < n; ++k) r += "*" + s;
-                    return {r, n == 1 ? base.p : Prec::Mul};
+                    wrap_from(start, base, Prec::Atom);
+                    const std::size_t len = buf_.size() - start;
+                    buf_.reserve(buf_.size() + static_cast<std::size_t>(n - 1) * (len + 1)); // no reallocation below
+                    for (long k = 1; k < n; ++k) {
+                        buf_ += '*';
+                        buf_.append(buf_, start, len);
+                    }
+                    return n == 1 ? base : Prec::Mul;
                 }
             }
-            return {math() + "pow(" + base.s + ", " + print(e).s + ")", Prec::Atom};
+            buf_.insert(start, math() + "pow(");
+            buf_ += ", ";
+            print(e);
+            buf_ += ')';
+            return Prec::Atom;
         }
+        const Out base = sub(b);
         if (mode_ == Mode::Latex) {
-            Out ex = print(e);
+            const Out ex = sub(e);
             if (b.kind() == Kind::Function && e.is_integer() && !is_fn(b, Function::Exp) && !is_fn(b, Function::Abs) &&
                 !is_fn(b, Function::Atan2)) {
                 // \sin^{2}{\left(x \right)}
                 const std::string name = latex_function(static_cast<Function>(b->sub));
-                return {name + "^{" + ex.s + "}{\\left(" + print(b.args()[0]).s + " \\right)}", Prec::Atom};
+                return put({name + "^{" + ex.s + "}{\\left(" + sub(b.args()[0]).s + " \\right)}", Prec::Atom});
             }
-            return {wrap(base, Prec::Atom, true) + "^{" + ex.s + "}", Prec::Pow};
+            return put({wrap(base, Prec::Atom, true) + "^{" + ex.s + "}", Prec::Pow});
         }
-        Out ex = print(e);
+        const Out ex = sub(e);
         // ^ is right associative: a power in the exponent needs no parentheses (x^y^z is
         // x^(y^z)), which keeps printed nesting no deeper than the parsed input
-        return {wrap(base, Prec::Atom) + "^" + wrap(ex, Prec::Pow), Prec::Pow};
+        return put({wrap(base, Prec::Atom) + "^" + wrap(ex, Prec::Pow), Prec::Pow});
     }
 
     int cpp_max_power() const { return cpp_ ? cpp_->max_multiply_power : 8; }
@@ -278,87 +328,103 @@ private:
         return out;
     }
 
-    // c · Π factors, with factors of negative numeric exponent in a denominator.
-    Out product(Expr c, std::span<const Expr> factors) {
-        const bool neg = detail::num_sign(c) < 0;
-        const mpq_class a = abs(c.value());
-        std::vector<std::string> num, den;
-        const std::string sep = mode_ == Mode::Latex ? " " : "*";
-        const bool latex = mode_ == Mode::Latex;
-        if (mode_ == Mode::Cpp) {
-            if (a != 1) num.push_back(double_literal(to_double(a)));
-        } else {
-            if (a.get_num() != 1) num.push_back(a.get_num().get_str());
-            if (a.get_den() != 1) den.push_back(a.get_den().get_str());
-        }
-        Out lone; // the printed form of a single numerator factor (printed once only)
-        for (Expr f : display_order(factors)) {
-            if (f.kind() == Kind::Pow && f.args()[1].kind() == Kind::Number && detail::num_sign(f.args()[1]) < 0) {
-                Out o = print(pow(f.args()[0], detail::num_neg(f.args()[1])));
-                den.push_back(latex ? wrap(o, Prec::Mul, true) : wrap(o, Prec::Pow));
-            } else {
-                Out o = print(f);
-                num.push_back(wrap(o, Prec::Mul, latex));
-                lone = std::move(o);
-            }
-        }
-        auto join = [&](const std::vector<std::string>& v) {
-            std::string s;
-            for (std::size_t i = 0; i < v.size(); ++i) {
-                if (i) s += sep;
-                s += v[i];
-            }
-            return s;
-        };
-        std::string s;
-        Prec p = Prec::Mul;
-        if (latex && !den.empty()) {
-            s = "\\frac{" + (num.empty() ? std::string("1") : join(num)) + "}{" + join(den) + "}";
-            p = Prec::Atom;
-        } else {
-            s = num.empty() ? (mode_ == Mode::Cpp ? "1.0" : "1") : join(num);
-            if (!den.empty()) {
-                s += "/";
-                s += den.size() == 1 ? den[0] : "(" + join(den) + ")";
-            }
-        }
-        if (num.size() == 1 && den.empty() && factors.size() == 1 && a == 1) {
-            // c = ±1 times one factor: the factor's own form and precedence (x^2 stays a Pow)
-            s = std::move(lone.s);
-            p = lone.p;
-        }
-        if (neg) return {"-" + s, Prec::Neg};
-        return {s, p};
+    static bool in_denominator(Expr f) {
+        return f.kind() == Kind::Pow && f.args()[1].kind() == Kind::Number && detail::num_sign(f.args()[1]) < 0;
     }
 
-    Out sum(Expr x) {
+    // c · Π factors, with factors of negative numeric exponent in a denominator:
+    // [-]num*num/den or [-]num/(den*den) (\frac{num}{den} in LaTeX).
+    Prec product(Expr c, std::span<const Expr> factors) {
+        const bool neg = detail::num_sign(c) < 0;
+        const bool unit = c->small && (c->small_value == 1 || c->small_value == -1);
+        const bool latex = mode_ == Mode::Latex;
+        const char* sep = latex ? " " : "*";
+        std::string num_c, den_c; // |c| as the first numerator (and denominator) entry
+        if (!unit) {
+            const mpq_class a = abs(c.value());
+            if (mode_ == Mode::Cpp) num_c = double_literal(to_double(a));
+            else {
+                if (a.get_num() != 1) num_c = a.get_num().get_str();
+                if (a.get_den() != 1) den_c = a.get_den().get_str();
+            }
+        }
+        if (neg) buf_ += '-';
+        if (unit && factors.size() == 1 && !in_denominator(factors[0])) {
+            // ±1 times one factor: the factor's own form and precedence (x^2 stays a Pow)
+            const Prec p = print(factors[0]);
+            return neg ? Prec::Neg : p;
+        }
+        const std::vector<Expr> order = display_order(factors);
+        std::size_t n_den = den_c.empty() ? 0 : 1;
+        for (Expr f : order) n_den += in_denominator(f) ? 1 : 0;
+        const bool frac = latex && n_den > 0;
+        if (frac) buf_ += "\\frac{";
+        // the numerator
+        bool any = !num_c.empty();
+        buf_ += num_c;
+        for (Expr f : order) {
+            if (in_denominator(f)) continue;
+            if (any) buf_ += sep;
+            any = true;
+            const std::size_t at = buf_.size();
+            wrap_from(at, print(f), Prec::Mul, latex);
+        }
+        if (!any) buf_ += mode_ == Mode::Cpp ? "1.0" : "1";
+        // the denominator
+        if (n_den > 0) {
+            const bool parens = !frac && n_den > 1;
+            buf_ += frac ? "}{" : parens ? "/(" : "/";
+            bool first = den_c.empty();
+            buf_ += den_c;
+            for (Expr f : order) {
+                if (!in_denominator(f)) continue;
+                if (!first) buf_ += sep;
+                first = false;
+                const std::size_t at = buf_.size();
+                const Prec p = print(pow(f.args()[0], detail::num_neg(f.args()[1])));
+                if (latex) wrap_from(at, p, Prec::Mul, true);
+                else wrap_from(at, p, Prec::Pow);
+            }
+            if (frac) buf_ += "}";
+            else if (parens) buf_ += ")";
+        }
+        if (neg) return Prec::Neg;
+        return frac ? Prec::Atom : Prec::Mul;
+    }
+
+    Prec sum(Expr x) {
         // terms in display order, the constant last
         std::vector<std::pair<std::string, std::size_t>> order;
+        order.reserve(x->nargs);
         for (std::uint32_t i = 0; i < x->nargs; ++i) order.push_back({key(x.args()[i]), i});
         std::stable_sort(order.begin(), order.end());
         // readability: a positive term leads (sqrt(x) - exp(y), not -exp(y) + sqrt(x))
         auto positive = std::find_if(order.begin(), order.end(),
                                      [&](auto& o) { return detail::num_sign(x->coefs[o.second]) > 0; });
         if (positive != order.end()) std::rotate(order.begin(), positive, positive + 1);
-        std::string s;
         bool first = true;
-        auto emit = [&](Out o) {
-            const bool neg = o.p == Prec::Neg && !o.s.empty() && o.s[0] == '-';
-            if (first) s = o.s;
-            else if (neg) s += " - " + o.s.substr(1);
-            else s += " + " + o.s;
-            first = false;
+        // a term appended after " + "; " + -" becomes " - "
+        auto term = [&](auto&& print_term) {
+            if (first) {
+                print_term();
+                first = false;
+                return;
+            }
+            const std::size_t at = buf_.size();
+            buf_ += " + ";
+            const Prec p = print_term();
+            if (p == Prec::Neg && buf_.size() > at + 3 && buf_[at + 3] == '-') buf_.replace(at, 4, " - ");
         };
         for (auto& [key, i] : order) {
             const Expr rest = x.args()[i], c = x->coefs[i];
-            if (rest.kind() == Kind::Mul) emit(product(c, rest.args()));
-            else {
+            term([&] {
+                if (rest.kind() == Kind::Mul) return product(c, rest.args());
                 const Expr one[1] = {rest};
-                emit(product(c, one));
-            }
+                return product(c, one);
+            });
         }
-        if (!x->number.is_zero()) emit(number(x->number.value()));
-        return {s, Prec::Add};
+        if (!x->number.is_zero()) term([&] { return number(x->number.value()); });
+        return Prec::Add;
     }
 };
 
@@ -374,9 +440,9 @@ std::string default_cpp_name(Expr v) {
     }
 }
 
-std::string to_string(Expr e) { return Printer(Mode::Infix, nullptr).print(e).s; }
-std::string to_string(Expr e, std::size_t max_chars) { return Printer(Mode::Infix, nullptr, max_chars).print(e).s; }
-std::string to_cpp(Expr e, const CppOptions& options) { return Printer(Mode::Cpp, &options).print(e).s; }
-std::string to_latex(Expr e) { return Printer(Mode::Latex, nullptr).print(e).s; }
+std::string to_string(Expr e) { return Printer(Mode::Infix, nullptr).run(e); }
+std::string to_string(Expr e, std::size_t max_chars) { return Printer(Mode::Infix, nullptr, max_chars).run(e); }
+std::string to_cpp(Expr e, const CppOptions& options) { return Printer(Mode::Cpp, &options).run(e); }
+std::string to_latex(Expr e) { return Printer(Mode::Latex, nullptr).run(e); }
 
 } // namespace phynjo::cas

@@ -1,4 +1,5 @@
 #include "phynjo/cas/transform.hpp"
+#include "phynjo/cas/node_map.hpp"
 
 #include "phynjo/cas/diff.hpp"
 #include "phynjo/cas/errors.hpp"
@@ -44,9 +45,9 @@ namespace {
 
 /// Bottom-up map with a memo: f(node, rebuilt-children-node).
 template <typename F>
-Expr map_bottom_up(Expr e, std::unordered_map<const Node*, Expr>& memo, F&& f) {
+Expr map_bottom_up(Expr e, NodeMap<Expr>& memo, F&& f) {
     auto rec = [&](auto&& self, Expr x) -> Expr {
-        if (auto it = memo.find(x.get()); it != memo.end()) return it->second;
+        if (const Expr* m = memo.find(x)) return *m;
         Expr r;
         if (x->nargs == 0) r = f(x);
         else {
@@ -59,7 +60,7 @@ Expr map_bottom_up(Expr e, std::unordered_map<const Node*, Expr>& memo, F&& f) {
             }
             r = f(same ? x : rebuild(x, a));
         }
-        memo.emplace(x.get(), r);
+        memo.try_emplace(x, r);
         return r;
     };
     return rec(rec, e);
@@ -231,14 +232,14 @@ Expr angle_difference(Expr s) {
 }
 
 Expr trig_simplify(Expr e) {
-    std::unordered_map<const Node*, Expr> memo;
+    NodeMap<Expr> memo;
     return map_bottom_up(e, memo, [](Expr x) { return angle_difference(pythagoras(x)); });
 }
 
 } // namespace
 
 Expr expand(Expr e) {
-    std::unordered_map<const Node*, Expr> memo;
+    NodeMap<Expr> memo;
     return map_bottom_up(e, memo, [](Expr x) { return expand_node(x); });
 }
 
@@ -339,7 +340,7 @@ Expr horner_terms(std::vector<HTerm> terms) {
 } // namespace
 
 std::vector<Expr> horner(std::span<const Expr> es) {
-    std::unordered_map<const Node*, Expr> memo;
+    NodeMap<Expr> memo;
     auto step = [](Expr x) {
         if (x.kind() != Kind::Add) return x;
         std::vector<HTerm> terms;
@@ -356,11 +357,11 @@ Expr horner(Expr e) { return horner(std::span<const Expr>(&e, 1))[0]; }
 
 Expr subs(Expr e, const std::unordered_map<Expr, Expr>& replacements) {
     if (replacements.empty()) return e;
-    std::unordered_map<const Node*, Expr> memo;
+    NodeMap<Expr> memo;
     auto rec = [&](auto&& self, Expr x) -> Expr {
         if (auto r = replacements.find(x); r != replacements.end()) return r->second;
         if (x->nargs == 0) return x;
-        if (auto it = memo.find(x.get()); it != memo.end()) return it->second;
+        if (const Expr* m = memo.find(x)) return *m;
         std::vector<Expr> a;
         a.reserve(x->nargs);
         bool same = true;
@@ -369,7 +370,7 @@ Expr subs(Expr e, const std::unordered_map<Expr, Expr>& replacements) {
             same = same && a.back() == c;
         }
         Expr r = same ? x : rebuild(x, a);
-        memo.emplace(x.get(), r);
+        memo.try_emplace(x, r);
         return r;
     };
     return rec(rec, e);
@@ -378,12 +379,12 @@ Expr subs(Expr e, const std::unordered_map<Expr, Expr>& replacements) {
 namespace {
 template <typename Keep>
 std::vector<Expr> collect_atoms(std::span<const Expr> es, Keep&& keep, bool into_derivatives) {
-    std::unordered_set<const Node*> seen;
+    NodeSet seen;
     std::vector<Expr> stack(es.begin(), es.end()), out;
     while (!stack.empty()) {
         Expr x = stack.back();
         stack.pop_back();
-        if (!seen.insert(x.get()).second) continue;
+        if (!seen.insert(x)) continue;
         if (keep(x)) out.push_back(x);
         if (x.kind() == Kind::TimeDerivative && !into_derivatives) continue;
         for (Expr c : x.args()) stack.push_back(c);
@@ -406,13 +407,13 @@ std::vector<Expr> free_variables(Expr e) { return free_variables(std::span<const
 
 bool contains(Expr e, Expr x) {
     if (x.is_atom_variable() && (e->atom_mask & x->atom_mask) == 0) return false;
-    std::unordered_set<const Node*> seen;
+    NodeSet seen;
     std::vector<Expr> stack{e};
     while (!stack.empty()) {
         Expr y = stack.back();
         stack.pop_back();
         if (y == x) return true;
-        if (!seen.insert(y.get()).second) continue;
+        if (!seen.insert(y)) continue;
         for (Expr c : y.args()) stack.push_back(c);
     }
     return false;

@@ -62,6 +62,13 @@ Other limits, fixed: files up to 16 MiB, nesting depth 200, numbers up to 100000
 exit status: 0 ok, 1 the model has errors, 2 usage error
 )";
 
+/// The whole of a file opened for reading (one read, not a character at a time).
+std::string slurp(std::istream& in) {
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
 int usage_error(const std::string& m) {
     std::cerr << "phynjo-lagc: " << m << "\ntry 'phynjo-lagc --help'\n";
     return 2;
@@ -72,8 +79,9 @@ bool write_file(const std::string& path, const std::string& text) {
     {
         std::ifstream in(path, std::ios::binary);
         if (in) {
-            std::string old((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-            if (old == text) return true;
+            if (in.seekg(0, std::ios::end).tellg() == static_cast<std::streamoff>(text.size()) &&
+                slurp(in.seekg(0)) == text)
+                return true;
         }
     }
     std::ofstream out(path, std::ios::binary | std::ios::trunc);
@@ -211,7 +219,7 @@ int main(int argc, char** argv) {
         std::cerr << "phynjo-lagc: cannot read '" << input << "'\n";
         return 1;
     }
-    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::string text = slurp(in);
     grammar::DiagnosticSink sink(input, text);
     try {
         auto model = codegen::read_model(text, input, sink);
