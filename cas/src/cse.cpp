@@ -1,4 +1,5 @@
 #include "phynjo/cas/cse.hpp"
+#include "number_ops.hpp"
 
 #include "phynjo/cas/node_map.hpp"
 #include "phynjo/cas/transform.hpp"
@@ -188,7 +189,7 @@ CseResult cse(std::span<const Expr> outputs, const CseOptions& options) {
         Expr r = x;
         if (const PartialSum* p = sums.find(x)) {
             std::vector<Expr> ts{ref(Expr(p->y))};
-            for (std::uint32_t k : p->rest) ts.push_back(mul({x->coefs[k], ref(x.args()[k])}));
+            for (std::uint32_t k : p->rest) ts.push_back(detail::times(x->coefs[k], ref(x.args()[k])));
             if (p->constant) ts.push_back(x->number);
             r = add(ts);
         } else if (x->nargs) {

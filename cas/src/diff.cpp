@@ -30,7 +30,7 @@ Expr derive_compound(Expr e, Rec&& rec) {
         terms.reserve(e->nargs);
         for (std::uint32_t i = 0; i < e->nargs; ++i) {
             Expr d = rec(e.args()[i]);
-            if (!d.is_zero()) terms.push_back(mul({e->coefs[i], d}));
+            if (!d.is_zero()) terms.push_back(detail::times(e->coefs[i], d));
         }
         return terms.empty() ? Expr(0) : add(as_span(terms));
     }

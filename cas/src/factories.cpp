@@ -216,6 +216,16 @@ Expr scale(Expr c, Expr e) {
     return e;
 }
 
+} // namespace
+
+Expr detail::times(Expr c, Expr x) {
+    assert(c.kind() == Kind::Number);
+    pool().charge(2);
+    return scale(c, x);
+}
+
+namespace {
+
 /// Splits a term into (coefficient, rest).
 std::pair<Expr, Expr> split_term(Expr x) {
     if (x.kind() == Kind::Mul && !x->number.is_one()) {
@@ -275,6 +285,7 @@ std::pair<Expr, Expr> primitive_part(Expr s) {
 Expr add(std::span<const Expr> xs) {
     if (xs.size() == 1) return xs[0];
     pool().charge(xs.size());
+    const Expr one = make_int(1);
     Expr constant = make_int(0);
     boost::container::small_vector<std::pair<Expr, Expr>, 16> terms; // (rest, coefficient)
     terms.reserve(xs.size() + 4);
@@ -294,7 +305,7 @@ Expr add(std::span<const Expr> xs) {
         case Kind::Symbol:
         case Kind::TimeDerivative:
         case Kind::Function:
-        case Kind::Pow: terms.emplace_back(x, make_int(1)); break;
+        case Kind::Pow: terms.emplace_back(x, one); break;
         }
     }
     std::sort(terms.begin(), terms.end(), [](const auto& a, const auto& b) { return less(a.first, b.first); });
@@ -330,7 +341,8 @@ Expr base_of(Expr f) { return f.kind() == Kind::Pow ? f.args()[0] : f; }
 Expr mul(std::span<const Expr> xs) {
     if (xs.size() == 1) return xs[0];
     pool().charge(xs.size());
-    Expr coef = make_int(1);
+    const Expr one = make_int(1);
+    Expr coef = one;
     boost::container::small_vector<Factor, 16> fs;
     fs.reserve(xs.size() + 4);
     auto push_factor = [&](Expr f) {
@@ -338,8 +350,8 @@ Expr mul(std::span<const Expr> xs) {
         else if (f.kind() == Kind::Add) {
             auto [content, prim] = primitive_part(f);
             coef = num_mul(coef, content);
-            fs.push_back({prim, make_int(1), prim});
-        } else fs.push_back({f, make_int(1), f});
+            fs.push_back({prim, one, prim});
+        } else fs.push_back({f, one, f});
     };
     for (Expr x : xs) {
         switch (x.kind()) {

@@ -22,5 +22,8 @@ bool num_is_integer(Expr a) noexcept;
 /// b^e for Numbers b, e: a Number when exact, otherwise a canonical Pow (or Mul of a
 /// rational and a Pow). Throws DomainError (0^negative) or LimitError (too large).
 Expr num_pow(Expr b, Expr e);
+/// c·x for a Number c and any x: mul({c, x}) (the same node, the same work charged) without
+/// sorting and merging factors — a canonical x needs neither.
+Expr times(Expr c, Expr x);
 
 } // namespace phynjo::cas::detail

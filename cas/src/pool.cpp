@@ -143,9 +143,10 @@ const Node* PoolImpl::intern(NodeKey& k) {
 
 } // namespace detail
 
-namespace {
+namespace detail {
 thread_local Pool* current_pool = nullptr;
 }
+using detail::current_pool;
 
 Pool::Pool() : impl_(std::make_unique<detail::PoolImpl>(detail::next_pool_id.fetch_add(1))) {}
 Pool::~Pool() = default;

@@ -85,6 +85,14 @@ private:
     const Node* make(const NodeKey& key);
 };
 
-inline PoolImpl& pool() { return Pool::current().impl(); }
+/// The calling thread's current pool, if a PoolScope set one (pool.cpp).
+extern thread_local Pool* current_pool;
+
+/// The current pool's storage: inline, since every factory asks for it (a thread-local load
+/// and a branch; the thread's default pool out of line).
+inline PoolImpl& pool() {
+    if (Pool* p = current_pool) return p->impl();
+    return Pool::current().impl();
+}
 
 } // namespace phynjo::cas::detail

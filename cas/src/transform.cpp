@@ -1,4 +1,5 @@
 #include "phynjo/cas/transform.hpp"
+#include "number_ops.hpp"
 #include "phynjo/cas/node_map.hpp"
 
 #include "phynjo/cas/diff.hpp"
@@ -33,7 +34,7 @@ Expr rebuild(Expr e, std::span<const Expr> a) {
     case Kind::Add: {
         std::vector<Expr> ts;
         ts.reserve(a.size() + 1);
-        for (std::size_t i = 0; i < a.size(); ++i) ts.push_back(mul({e->coefs[i], a[i]}));
+        for (std::size_t i = 0; i < a.size(); ++i) ts.push_back(detail::times(e->coefs[i], a[i]));
         ts.push_back(e->number);
         return add(ts);
     }
@@ -71,7 +72,7 @@ Expr map_bottom_up(Expr e, NodeMap<Expr>& memo, F&& f) {
 /// The terms of an expanded expression (a sum becomes its terms, anything else one term).
 void terms_of(Expr e, std::vector<Expr>& out) {
     if (e.kind() == Kind::Add) {
-        for (std::uint32_t i = 0; i < e->nargs; ++i) out.push_back(mul({e->coefs[i], e.args()[i]}));
+        for (std::uint32_t i = 0; i < e->nargs; ++i) out.push_back(detail::times(e->coefs[i], e.args()[i]));
         if (!e->number.is_zero()) out.push_back(e->number);
     } else out.push_back(e);
 }
@@ -279,7 +280,7 @@ HTerm to_hterm(Expr coef, Expr rest) {
     };
     if (rest.is_null()) return t;
     if (rest.kind() == Kind::Mul) {
-        t.coef = mul({t.coef, rest->number});
+        t.coef = detail::num_mul(t.coef, rest->number);
         for (Expr f : rest.args()) add_factor(f);
     } else add_factor(rest);
     std::sort(t.atoms.begin(), t.atoms.end(), [](auto& a, auto& b) { return compare(a.first, b.first) < 0; });
