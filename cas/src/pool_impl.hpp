@@ -79,6 +79,9 @@ struct PoolImpl {
 
     FlatTable<std::pair<const Node*, const Node*>, Expr, NodePairHash> diff_memo{1 << 12};
     NodeMap<Expr> dt_memo{1 << 8};
+    /// The printers' memos: a node's display-order key, a Number's C++ literal of |value|.
+    NodeMap<std::string> print_keys{1 << 10};
+    NodeMap<std::string> cpp_abs_literals{1 << 6};
 
 private:
     void grow();

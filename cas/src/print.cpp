@@ -6,6 +6,8 @@
 #include "phynjo/cas/errors.hpp"
 #include "phynjo/cas/rational.hpp"
 
+#include <boost/container/small_vector.hpp>
+
 #include <algorithm>
 #include <array>
 #include <cstdio>
@@ -316,16 +318,35 @@ private:
         return buf;
     }
 
-    std::vector<Expr> display_order(std::span<const Expr> fs) {
-        std::vector<std::pair<std::pair<int, std::string>, Expr>> keyed;
-        for (Expr f : fs) {
-            const Expr b = f.kind() == Kind::Pow ? f.args()[0] : f; // key on the base
-            keyed.push_back({{rank(f), key(b)}, f});
-        }
-        std::stable_sort(keyed.begin(), keyed.end(), [](auto& a, auto& b) { return a.first < b.first; });
-        std::vector<Expr> out;
-        for (auto& k : keyed) out.push_back(k.second);
+    /// key(x) of the outermost call, memoized in the pool (a node's key never changes).
+    static const std::string& top_key(Expr x) {
+        auto& memo = detail::pool().print_keys;
+        if (const std::string* k = memo.find(x)) return *k;
+        return *memo.try_emplace(x, key(x)).first;
+    }
+
+    static Expr key_base(Expr f) { return f.kind() == Kind::Pow ? f.args()[0] : f; } // factors sort by base
+
+    /// Factors in display order: (rank, key of the base), ties in canonical order.
+    static boost::container::small_vector<Expr, 8> display_order(std::span<const Expr> fs) {
+        boost::container::small_vector<Expr, 8> out(fs.begin(), fs.end());
+        if (fs.size() < 2) return out;
+        for (Expr f : fs) top_key(key_base(f)); // every key in the memo first: no insertion below moves them
+        boost::container::small_vector<std::pair<std::pair<int, const std::string*>, Expr>, 8> keyed;
+        for (Expr f : fs) keyed.push_back({{rank(f), &top_key(key_base(f))}, f});
+        std::stable_sort(keyed.begin(), keyed.end(), [](const auto& x, const auto& y) {
+            if (x.first.first != y.first.first) return x.first.first < y.first.first;
+            return *x.first.second < *y.first.second;
+        });
+        for (std::size_t i = 0; i < fs.size(); ++i) out[i] = keyed[i].second;
         return out;
+    }
+
+    /// The correctly rounded double literal of |c|, memoized in the pool.
+    static const std::string& cpp_abs_literal(Expr c) {
+        auto& memo = detail::pool().cpp_abs_literals;
+        if (const std::string* s = memo.find(c)) return *s;
+        return *memo.try_emplace(c, double_literal(to_double(abs(c.value())))).first;
     }
 
     static bool in_denominator(Expr f) {
@@ -341,9 +362,9 @@ private:
         const char* sep = latex ? " " : "*";
         std::string num_c, den_c; // |c| as the first numerator (and denominator) entry
         if (!unit) {
-            const mpq_class a = abs(c.value());
-            if (mode_ == Mode::Cpp) num_c = double_literal(to_double(a));
+            if (mode_ == Mode::Cpp) num_c = cpp_abs_literal(c);
             else {
+                const mpq_class a = abs(c.value());
                 if (a.get_num() != 1) num_c = a.get_num().get_str();
                 if (a.get_den() != 1) den_c = a.get_den().get_str();
             }
@@ -354,7 +375,7 @@ private:
             const Prec p = print(factors[0]);
             return neg ? Prec::Neg : p;
         }
-        const std::vector<Expr> order = display_order(factors);
+        const auto order = display_order(factors);
         std::size_t n_den = den_c.empty() ? 0 : 1;
         for (Expr f : order) n_den += in_denominator(f) ? 1 : 0;
         const bool frac = latex && n_den > 0;
@@ -394,10 +415,14 @@ private:
 
     Prec sum(Expr x) {
         // terms in display order, the constant last
-        std::vector<std::pair<std::string, std::size_t>> order;
+        for (std::uint32_t i = 0; i < x->nargs; ++i) top_key(x.args()[i]); // all in the memo first (see display_order)
+        std::vector<std::pair<const std::string*, std::size_t>> order;
         order.reserve(x->nargs);
-        for (std::uint32_t i = 0; i < x->nargs; ++i) order.push_back({key(x.args()[i]), i});
-        std::stable_sort(order.begin(), order.end());
+        for (std::uint32_t i = 0; i < x->nargs; ++i) order.push_back({&top_key(x.args()[i]), i});
+        std::stable_sort(order.begin(), order.end(), [](const auto& a, const auto& b) {
+            if (*a.first != *b.first) return *a.first < *b.first;
+            return a.second < b.second;
+        });
         // readability: a positive term leads (sqrt(x) - exp(y), not -exp(y) + sqrt(x))
         auto positive = std::find_if(order.begin(), order.end(),
                                      [&](auto& o) { return detail::num_sign(x->coefs[o.second]) > 0; });
