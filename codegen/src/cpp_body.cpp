@@ -2,6 +2,8 @@
 // locals declared only for the variables used.
 #include "emit_detail.hpp"
 
+#include "phynjo/cas/node_map.hpp"
+
 #include <map>
 #include <optional>
 #include <unordered_map>
@@ -10,6 +12,23 @@
 namespace phynjo::codegen::detail {
 
 namespace {
+
+/// True when `e` uses a variable (a Symbol, or x' as a whole) of `vars`: a walk of its DAG.
+bool mentions(Expr e, const cas::NodeSet& vars) {
+    cas::NodeSet seen;
+    std::vector<Expr> stack{e};
+    while (!stack.empty()) {
+        const Expr x = stack.back();
+        stack.pop_back();
+        if (x.is_atom_variable()) {
+            if (vars.contains(x)) return true;
+            continue;
+        }
+        if (!seen.insert(x)) continue;
+        for (Expr c : x.args()) stack.push_back(c);
+    }
+    return false;
+}
 
 /// The loads of the user variables a CSE result uses, in a deterministic order.
 std::string loads(const Names& names, const cas::CseResult& r, bool& uses_t, bool& uses_params, bool generic) {
@@ -162,31 +181,23 @@ void body_split(const Names& names, const std::vector<Expr>& outputs, const std:
     Statements st(names, r);
     early = loads(names, r, uses_t, uses_params, false) + st.declaration();
     late.clear();
-    std::unordered_set<Expr> is_late(late_variables.begin(), late_variables.end());
+    cas::NodeSet is_late(late_variables.size() + r.assignments.size());
+    for (Expr x : late_variables) is_late.insert(x);
     for (const auto& [t, v] : r.assignments) {
-        bool depends = false;
-        for (Expr x : cas::free_variables(v))
-            if (is_late.count(x)) {
-                depends = true;
-                break;
-            }
-        if (depends) is_late.insert(t);
-        if (!depends) st.assign(early, t, v);
+        if (mentions(v, is_late)) is_late.insert(t);
+        else st.assign(early, t, v);
     }
     // the outputs that need no late variable are computed early (M, f, G, γ before the solve)
-    auto needs_late = [&](Expr o) {
-        for (Expr x : cas::free_variables(o))
-            if (is_late.count(x)) return true;
-        return false;
-    };
+    std::vector<char> output_late(r.outputs.size());
+    for (std::size_t j = 0; j < r.outputs.size(); ++j) output_late[j] = mentions(r.outputs[j], is_late);
     results.assign(r.outputs.size(), {});
     for (std::size_t j = 0; j < r.outputs.size(); ++j)
-        if (!needs_late(r.outputs[j])) results[j] = st.output(early, j, r.outputs[j]);
+        if (!output_late[j]) results[j] = st.output(early, j, r.outputs[j]);
     st.close(early);
     for (const auto& [t, v] : r.assignments)
-        if (is_late.count(t)) st.assign(late, t, v);
+        if (is_late.contains(t)) st.assign(late, t, v);
     for (std::size_t j = 0; j < r.outputs.size(); ++j)
-        if (needs_late(r.outputs[j])) results[j] = st.output(late, j, r.outputs[j]);
+        if (output_late[j]) results[j] = st.output(late, j, r.outputs[j]);
     st.close(late);
 }
 
