@@ -169,6 +169,11 @@ std::uint64_t Pool::work() const noexcept { return impl_->work; }
 void Pool::clear_memo() noexcept {
     impl_->diff_memo.clear();
     impl_->dt_memo.clear();
+    impl_->trig_memo.clear();
+    impl_->expand_memo.clear();
+    impl_->horner_memo.clear();
+    impl_->print_keys.clear();
+    impl_->cpp_abs_literals.clear();
 }
 
 PoolScope::PoolScope(Pool& pool) noexcept : previous_(current_pool) { current_pool = &pool; }

@@ -79,6 +79,10 @@ struct PoolImpl {
 
     FlatTable<std::pair<const Node*, const Node*>, Expr, NodePairHash> diff_memo{1 << 12};
     NodeMap<Expr> dt_memo{1 << 8};
+    /// Memos of the bottom-up rewrites, each a function of the node alone (transform.cpp):
+    /// kept across calls, so that simplify's second look, and every expression sharing
+    /// subexpressions with one done before, costs a lookup.
+    NodeMap<Expr> trig_memo{1 << 10}, expand_memo{1 << 10}, horner_memo{1 << 10};
     /// The printers' memos: a node's display-order key, a Number's C++ literal of |value|.
     NodeMap<std::string> print_keys{1 << 10};
     NodeMap<std::string> cpp_abs_literals{1 << 6};

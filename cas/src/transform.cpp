@@ -233,15 +233,13 @@ Expr angle_difference(Expr s) {
 }
 
 Expr trig_simplify(Expr e) {
-    NodeMap<Expr> memo;
-    return map_bottom_up(e, memo, [](Expr x) { return angle_difference(pythagoras(x)); });
+    return map_bottom_up(e, detail::pool().trig_memo, [](Expr x) { return angle_difference(pythagoras(x)); });
 }
 
 } // namespace
 
 Expr expand(Expr e) {
-    NodeMap<Expr> memo;
-    return map_bottom_up(e, memo, [](Expr x) { return expand_node(x); });
+    return map_bottom_up(e, detail::pool().expand_memo, [](Expr x) { return expand_node(x); });
 }
 
 Expr trig_simplify_only(Expr e) { return trig_simplify(e); }
@@ -341,7 +339,7 @@ Expr horner_terms(std::vector<HTerm> terms) {
 } // namespace
 
 std::vector<Expr> horner(std::span<const Expr> es) {
-    NodeMap<Expr> memo;
+    auto& memo = detail::pool().horner_memo;
     auto step = [](Expr x) {
         if (x.kind() != Kind::Add) return x;
         std::vector<HTerm> terms;

@@ -32,7 +32,7 @@ public:
     /// Bytes held by the arena.
     [[nodiscard]] std::size_t bytes() const noexcept;
     [[nodiscard]] std::uint32_t id() const noexcept;
-    /// Forgets memoized derivatives (the nodes stay).
+    /// Forgets memoized derivatives and rewrites (expand, trig, Horner, print keys; the nodes stay).
     void clear_memo() noexcept;
     /// The most distinct nodes this pool may hold (default limits::max_nodes); making one
     /// more throws LimitError, so that no input can run a computation without bound.
