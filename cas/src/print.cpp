@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <array>
+#include <charconv>
 #include <cstdio>
 
 namespace phynjo::cas {
@@ -293,29 +294,53 @@ private:
     /// A short key for the display order, computed without printing subtrees: names for
     /// variables, the function name and its argument's key for functions, the structural
     /// hash for anything deeper (deterministic, cheap).
-    static std::string key(Expr x, int depth = 0) {
+    static std::string key(Expr x) {
+        std::string k;
+        key_into(k, x, 0);
+        return k;
+    }
+    static void key_into(std::string& k, Expr x, int depth) {
         switch (x.kind()) {
-        case Kind::Number: return x.value().get_str();
-        case Kind::Constant: return "pi";
-        case Kind::Symbol: return std::string(x->name);
-        case Kind::TimeDerivative: return std::string(symbol_name(x)) + std::string(static_cast<std::size_t>(x->sub), '\'');
+        case Kind::Number:
+            if (x->small) {
+                char buf[24];
+                const auto r = std::to_chars(buf, buf + sizeof buf, x->small_value);
+                k.append(buf, r.ptr);
+            } else k += x.value().get_str();
+            return;
+        case Kind::Constant: k += "pi"; return;
+        case Kind::Symbol: k += x->name; return;
+        case Kind::TimeDerivative:
+            k += symbol_name(x);
+            k.append(static_cast<std::size_t>(x->sub), '\'');
+            return;
         case Kind::Function:
-            return std::string(function_name(static_cast<Function>(x->sub))) + "(" + (depth < 2 ? key(x.args()[0], depth + 1) : "") + ")";
-        case Kind::Pow: return key(x.args()[0], depth + 1) + "^" + (depth < 2 ? key(x.args()[1], depth + 1) : "");
+            k += function_name(static_cast<Function>(x->sub));
+            k += '(';
+            if (depth < 2) key_into(k, x.args()[0], depth + 1);
+            k += ')';
+            return;
+        case Kind::Pow:
+            key_into(k, x.args()[0], depth + 1);
+            k += '^';
+            if (depth < 2) key_into(k, x.args()[1], depth + 1);
+            return;
         case Kind::Mul: {
             if (depth >= 2) break;
-            std::vector<std::string> parts;
-            for (Expr f : x.args()) parts.push_back(key(f, depth + 1));
+            boost::container::small_vector<std::string, 8> parts(x->nargs);
+            for (std::uint32_t i = 0; i < x->nargs; ++i) key_into(parts[i], x.args()[i], depth + 1);
             std::sort(parts.begin(), parts.end());
-            std::string s;
-            for (const auto& p : parts) s += (s.empty() ? "" : "*") + p;
-            return s;
+            for (std::size_t i = 0; i < parts.size(); ++i) {
+                if (i) k += '*';
+                k += parts[i];
+            }
+            return;
         }
         case Kind::Add: break;
         }
         char buf[24];
         std::snprintf(buf, sizeof buf, "~%016llx", static_cast<unsigned long long>(x.hash()));
-        return buf;
+        k += buf;
     }
 
     /// key(x) of the outermost call, memoized in the pool (a node's key never changes).

@@ -318,11 +318,14 @@ Expr horner_terms(std::vector<HTerm> terms) {
     const Expr* best = best_atom.is_null() ? nullptr : &best_atom;
     if (!best) {
         std::vector<Expr> all;
+        all.reserve(terms.size());
         for (const HTerm& t : terms) all.push_back(from_hterm(t));
         return add(all);
     }
     const Expr atom = *best;
     std::vector<HTerm> with, without;
+    with.reserve(static_cast<std::size_t>(best_count));
+    without.reserve(terms.size() - static_cast<std::size_t>(best_count));
     for (HTerm& t : terms) {
         auto it = std::find_if(t.atoms.begin(), t.atoms.end(), [&](auto& p) { return p.first == atom; });
         if (it == t.atoms.end()) {
@@ -343,6 +346,7 @@ std::vector<Expr> horner(std::span<const Expr> es) {
     auto step = [](Expr x) {
         if (x.kind() != Kind::Add) return x;
         std::vector<HTerm> terms;
+        terms.reserve(x->nargs + 1);
         for (std::uint32_t i = 0; i < x->nargs; ++i) terms.push_back(to_hterm(x->coefs[i], x.args()[i]));
         if (!x->number.is_zero()) terms.push_back(HTerm{x->number, {}});
         return horner_terms(std::move(terms));
