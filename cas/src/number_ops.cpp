@@ -25,7 +25,7 @@ Expr intern_small(std::int64_t v) {
 constexpr std::int64_t small_limit = std::int64_t{1} << 61; // |v| < 2^61: sums and products checked
 } // namespace
 
-Expr make_int(std::int64_t v) {
+Expr make_int_slow(std::int64_t v) {
     if (v >= -PoolImpl::small_cache && v <= PoolImpl::small_cache) {
         PoolImpl& p = pool();
         Expr& slot = p.small_ints[v + PoolImpl::small_cache];
@@ -48,10 +48,14 @@ Expr make_number(const mpq_class& v) {
 }
 
 Expr num_add(Expr a, Expr b) {
+    if (a.is_zero()) return b;
+    if (b.is_zero()) return a;
     if (a->small && b->small) return make_int(a->small_value + b->small_value); // |each| < 2^61
     return make_number(a.value() + b.value());
 }
 Expr num_mul(Expr a, Expr b) {
+    if (a.is_one()) return b; // the common case in mul and add: a coefficient of 1
+    if (b.is_one()) return a;
     if (a->small && b->small) {
         std::int64_t r;
         if (!__builtin_mul_overflow(a->small_value, b->small_value, &r)) return make_int(r);

@@ -11,7 +11,15 @@ std::span<const Expr> as_span(const V& v) {
 }
 
 Expr make_number(const mpq_class& v);
-Expr make_int(std::int64_t v);
+Expr make_int_slow(std::int64_t v);
+/// The integer v (from the pool's cache of small integers when |v| ≤ 64).
+inline Expr make_int(std::int64_t v) {
+    if (v >= -PoolImpl::small_cache && v <= PoolImpl::small_cache) {
+        const Expr e = pool().small_ints[v + PoolImpl::small_cache];
+        if (!e.is_null()) return e;
+    }
+    return make_int_slow(v);
+}
 Expr num_add(Expr a, Expr b);
 Expr num_mul(Expr a, Expr b);
 Expr num_neg(Expr a);
