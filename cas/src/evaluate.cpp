@@ -13,6 +13,8 @@ namespace {
 
 template <typename T>
 T number_value(Expr x) {
+    // an integer below 2^61: the conversion rounds to nearest, as to_double does for any rational
+    if (x->small) return static_cast<T>(x->small_value);
     if constexpr (std::is_same_v<T, double>) return to_double(x.value());
     else return to_long_double(x.value());
 }
