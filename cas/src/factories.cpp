@@ -218,6 +218,15 @@ Expr scale(Expr c, Expr e) {
 
 } // namespace
 
+Expr detail::mul_sorted(Expr coef, std::span<const Expr> factors) {
+    assert(coef.kind() == Kind::Number);
+    if (factors.empty()) return coef;
+    pool().charge(factors.size() + 1);
+    if (coef.is_zero()) return coef;
+    if (factors.size() == 1) return scale(coef, factors[0]);
+    return make_mul_node(coef, factors);
+}
+
 Expr detail::times(Expr c, Expr x) {
     assert(c.kind() == Kind::Number);
     pool().charge(2);

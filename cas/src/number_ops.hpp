@@ -33,5 +33,9 @@ Expr num_pow(Expr b, Expr e);
 /// c·x for a Number c and any x: mul({c, x}) (the same node, the same work charged) without
 /// sorting and merging factors — a canonical x needs neither.
 Expr times(Expr c, Expr x);
+/// coef · Π factors when the factors are already a canonical Mul's: none a Number or a Mul,
+/// sums primitive, bases strictly increasing in `compare` order. mul({coef, factors…}) (the
+/// same node, the same work charged) without sorting and merging.
+Expr mul_sorted(Expr coef, std::span<const Expr> factors);
 
 } // namespace phynjo::cas::detail

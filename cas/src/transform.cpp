@@ -286,9 +286,16 @@ HTerm to_hterm(Expr coef, Expr rest) {
 }
 
 Expr from_hterm(const HTerm& t) {
-    std::vector<Expr> fs{t.coef};
-    for (const auto& [a, m] : t.atoms) fs.push_back(m == 1 ? a : pow(a, Expr(m)));
-    return mul(fs);
+    boost::container::small_vector<Expr, 8> fs;
+    bool sorted = true; // factors by base in canonical order (an atom that is a fractional power sorts by itself)
+    for (const auto& [a, m] : t.atoms) {
+        fs.push_back(m == 1 ? a : pow(a, Expr(m)));
+        const auto base = [](Expr f) { return f.kind() == Kind::Pow ? f.args()[0] : f; };
+        if (fs.size() > 1 && compare(base(fs[fs.size() - 2]), base(fs.back())) >= 0) sorted = false;
+    }
+    if (sorted) return detail::mul_sorted(t.coef, detail::as_span(fs));
+    fs.insert(fs.begin(), t.coef);
+    return mul(detail::as_span(fs));
 }
 
 Expr horner_terms(std::vector<HTerm> terms) {
