@@ -83,7 +83,14 @@ private:
             else buf_ += mode_ == Mode::Latex ? "\\pi" : "pi";
             return Prec::Atom;
         case Kind::Symbol:
-        case Kind::TimeDerivative: buf_ += variable(x); return Prec::Atom;
+        case Kind::TimeDerivative:
+            if (mode_ == Mode::Cpp && cpp_ && cpp_->variable_table)
+                if (const std::string* s = cpp_->variable_table->find(x)) {
+                    buf_ += *s;
+                    return Prec::Atom;
+                }
+            buf_ += variable(x);
+            return Prec::Atom;
         case Kind::Function: return function(x);
         case Kind::Pow: {
             const Expr e = x.args()[1];

@@ -30,13 +30,17 @@ bool mentions(Expr e, const cas::NodeSet& vars) {
     return false;
 }
 
-/// The loads of the user variables a CSE result uses, in a deterministic order.
-std::string loads(const Names& names, const cas::CseResult& r, bool& uses_t, bool& uses_params, bool generic) {
-    // the variables used, in a deterministic order
+/// The variables a CSE result uses (its temporaries among them), sorted by name.
+std::vector<Expr> variables_of(const cas::CseResult& r) {
     std::vector<Expr> all = r.outputs;
     for (const auto& [t, v] : r.assignments) all.push_back(v);
+    return cas::free_variables(all);
+}
+
+/// The loads of the user variables among `vars`, in a deterministic order.
+std::string loads(const Names& names, const std::vector<Expr>& vars, bool& uses_t, bool& uses_params, bool generic) {
     std::map<std::string, Expr> used;
-    for (Expr v : cas::free_variables(all))
+    for (Expr v : vars)
         if (names.is_user(v)) used.emplace(names.local(v), v);
     std::string s;
     uses_t = false;
@@ -107,7 +111,9 @@ std::optional<std::string> consecutive(const std::vector<std::string>& entries) 
 /// and the values pass between them through memory, at a few per cent of run time.
 class Statements {
 public:
-    Statements(const Names& names, const cas::CseResult& r, bool generic = false) : names_(names) {
+    /// `vars`: the variables the body uses (variables_of), each spelt once for the printer.
+    Statements(const Names& names, const cas::CseResult& r, const std::vector<Expr>& vars, bool generic = false)
+        : names_(names), spelling_(2 * vars.size()) {
         generic_ = generic;
         if (generic) cpp_.math_prefix = kLanes;
         chunked_ = r.assignments.size() + r.outputs.size() >= names.piece_threshold;
@@ -119,6 +125,8 @@ public:
             if (auto it = slot_.find(v); it != slot_.end()) return array_ + "[" + std::to_string(it->second) + "]";
             return names_.local(v);
         };
+        for (Expr v : vars) spelling_.try_emplace(v, cpp_.variable_name(v));
+        cpp_.variable_table = &spelling_;
         outputs_ = r.outputs.size();
         slots_ = slot_.size() + outputs_;
     }
@@ -154,6 +162,7 @@ private:
     bool generic_ = false;
     Pieces pieces_;
     const Names& names_;
+    cas::NodeMap<std::string> spelling_;
     cas::CppOptions cpp_;
     bool chunked_ = false;
     std::string array_;
@@ -166,8 +175,9 @@ private:
 std::string body(const Names& names, const std::vector<Expr>& outputs, std::vector<std::string>& results,
                  bool& uses_t, bool& uses_params, bool generic) {
     const cas::CseResult r = cas::cse(outputs, {.prefix = names.temp_prefix(), .hoist_power_bases = true});
-    Statements st(names, r, generic);
-    std::string s = loads(names, r, uses_t, uses_params, generic) + st.declaration();
+    const std::vector<Expr> vars = variables_of(r);
+    Statements st(names, r, vars, generic);
+    std::string s = loads(names, vars, uses_t, uses_params, generic) + st.declaration();
     for (const auto& [t, v] : r.assignments) st.assign(s, t, v);
     results.clear();
     for (std::size_t j = 0; j < r.outputs.size(); ++j) results.push_back(st.output(s, j, r.outputs[j]));
@@ -178,8 +188,9 @@ std::string body(const Names& names, const std::vector<Expr>& outputs, std::vect
 void body_split(const Names& names, const std::vector<Expr>& outputs, const std::vector<Expr>& late_variables,
                 std::vector<std::string>& results, std::string& early, std::string& late, bool& uses_t, bool& uses_params) {
     const cas::CseResult r = cas::cse(outputs, {.prefix = names.temp_prefix(), .hoist_power_bases = true});
-    Statements st(names, r);
-    early = loads(names, r, uses_t, uses_params, false) + st.declaration();
+    const std::vector<Expr> vars = variables_of(r);
+    Statements st(names, r, vars);
+    early = loads(names, vars, uses_t, uses_params, false) + st.declaration();
     late.clear();
     cas::NodeSet is_late(late_variables.size() + r.assignments.size());
     for (Expr x : late_variables) is_late.insert(x);

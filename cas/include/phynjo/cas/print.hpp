@@ -2,6 +2,7 @@
 /// \file
 /// Printers: the input syntax (re-parses to the same expression), C++, LaTeX.
 #include "phynjo/cas/expr.hpp"
+#include "phynjo/cas/node_map.hpp"
 
 #include <functional>
 #include <string>
@@ -19,6 +20,9 @@ struct CppOptions {
     /// Spelling of a variable (Symbol or TimeDerivative). Default: the name, `x_dot`,
     /// `x_ddot`, `x_d3`, …
     std::function<std::string(Expr)> variable_name;
+    /// Spellings looked up before `variable_name` is called (no call, no copy: a code
+    /// generator names every variable of a body once). Not owned; may be null.
+    const NodeMap<std::string>* variable_table = nullptr;
     /// Largest |n| printed as repeated multiplication for `x^n` (integer n); above it, std::pow.
     int max_multiply_power = 8;
     /// Qualification of the math functions (sin, fabs, sqrt, pow, atan2, sign): `std::`, or a
