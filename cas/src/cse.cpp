@@ -56,15 +56,17 @@ NodeMap<PartialSum> partial_sums(const std::vector<Expr>& nodes) {
     auto term = [](Expr x, std::uint32_t k) -> std::uint64_t {
         return k < x->nargs ? term_hash(x->coefs[k], x.args()[k]) : term_hash(x->number, Expr());
     };
-    std::unordered_map<std::uint64_t, std::vector<const Node*>> by_hash;
+    // (set hash, sum) of every sum, by hash; sums of one hash in the order of `nodes`
+    std::vector<std::pair<std::uint64_t, const Node*>> by_hash;
     NodeMap<std::uint64_t> set_hash(nodes.size());
     for (Expr x : nodes) {
         if (x.kind() != Kind::Add) continue;
         std::uint64_t h = 0;
         for (std::uint32_t k = 0, m = terms(x); k < m; ++k) h += term(x, k);
         set_hash.try_emplace(x, h);
-        by_hash[h].push_back(x.get());
+        by_hash.emplace_back(h, x.get());
     }
+    std::stable_sort(by_hash.begin(), by_hash.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
     // Does y have exactly x's terms but those at `drop` (sorted; x = y + the dropped terms)?
     // Both lists are in the canonical order, so the comparison is one pass.
     auto matches = [&](Expr x, Expr y, const std::uint32_t* drop, std::size_t nd) {
@@ -89,10 +91,10 @@ NodeMap<PartialSum> partial_sums(const std::vector<Expr>& nodes) {
         if (m < 3) continue;
         const std::uint64_t h = *set_hash.find(x);
         auto find = [&](std::uint64_t key, const std::uint32_t* drop, std::size_t nd) -> bool {
-            const auto it = by_hash.find(key);
-            if (it == by_hash.end()) return false;
-            for (const Node* y : it->second)
-                if (matches(x, Expr(y), drop, nd)) {
+            auto it = std::lower_bound(by_hash.begin(), by_hash.end(), key,
+                                       [](const auto& e, std::uint64_t k) { return e.first < k; });
+            for (; it != by_hash.end() && it->first == key; ++it)
+                if (const Node* y = it->second; matches(x, Expr(y), drop, nd)) {
                     PartialSum& p = out[x];
                     p.y = y;
                     for (std::uint32_t k = 0; k < x->nargs; ++k)
@@ -141,26 +143,27 @@ CseResult cse(std::span<const Expr> outputs, const CseOptions& options) {
         for (Expr c : x.args()) f(c);
     };
     // 1. Post-order of the DAG and the number of parents of each node.
-    NodeMap<int> uses;
+    // (a node is visited when first counted: its entry in `uses` is the visited mark)
+    NodeMap<int> uses(1024);
     std::vector<Expr> post;
     NodeSet hoist;
     {
-        NodeSet visited;
+        auto count = [&](Expr c) {
+            auto [n, first] = uses.try_emplace(c, 0);
+            ++*n;
+            return first;
+        };
         auto visit = [&](auto&& self, Expr x) -> void {
-            if (!visited.insert(x)) return;
             for_children(x, [&](Expr c) {
-                ++uses[c];
-                self(self, c);
+                if (count(c)) self(self, c);
             });
             if (options.hoist_power_bases && x.kind() == Kind::Pow && x.args()[1].is_integer() &&
                 !trivial(x.args()[0]))
                 hoist.insert(x.args()[0]);
             post.push_back(x);
         };
-        for (Expr o : outputs) {
-            ++uses[o];
-            visit(visit, o);
-        }
+        for (Expr o : outputs)
+            if (count(o)) visit(visit, o);
     }
     // 2. Names that cannot clash with the input's symbols.
     std::string prefix = options.prefix;
