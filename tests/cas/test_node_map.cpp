@@ -66,15 +66,18 @@ TEST_CASE("memoized rewrites give what a fresh pool gives, before and after clea
     check_property("expand, trig_simplify_only, horner, simplify across calls", [] {
         const auto texts = *rc::gen::container<std::vector<std::string>>(
             3, rc::gen::map(phynjo::test::gen_expr(3), [](Expr e) { return to_string(e); }));
-        // the reference: each text parsed and rewritten in a pool of its own
-        std::vector<std::string> want;
-        for (const std::string& t : texts) {
+        // the reference: each rewrite of each text in a pool of its own (no memo of any other call)
+        auto alone = [](const std::string& t, auto&& rewrite) {
             Pool fresh;
             PoolScope scope(fresh);
-            const Expr e = phynjo::grammar::parse(t);
-            want.push_back(to_string(expand(e)) + " | " + to_string(trig_simplify_only(e)) + " | " +
-                           to_string(horner(e)) + " | " + to_string(simplify(e)));
-        }
+            return to_string(rewrite(phynjo::grammar::parse(t)));
+        };
+        std::vector<std::string> want;
+        for (const std::string& t : texts)
+            want.push_back(alone(t, [](Expr e) { return expand(e); }) + " | " +
+                           alone(t, [](Expr e) { return trig_simplify_only(e); }) + " | " +
+                           alone(t, [](Expr e) { return horner(e); }) + " | " +
+                           alone(t, [](Expr e) { return simplify(e); }));
         // one pool for all, twice over (the second time from the memos), then after clear_memo
         Pool shared;
         PoolScope scope(shared);
