@@ -107,7 +107,7 @@ bool write_file(const std::string& path, const std::string& text) {
 /// goes to separate mappings, and the kernel is asked for transparent huge pages on it (a
 /// request, not a reservation: memory is still only taken when touched). glibc and Linux only.
 void prepare_heap() {
-#if defined(__GLIBC__) && defined(__linux__)
+#if defined(__GLIBC__) && defined(__linux__) && !defined(__SANITIZE_ADDRESS__) // (ASan has its own allocator)
     constexpr std::size_t pad = std::size_t{16} << 20, huge = std::size_t{2} << 20;
     mallopt(M_MMAP_THRESHOLD, 256 << 20);
     mallopt(M_TRIM_THRESHOLD, 256 << 20);
