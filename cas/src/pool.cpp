@@ -143,16 +143,13 @@ const Node* PoolImpl::intern(NodeKey& k) {
 
 } // namespace detail
 
-namespace detail {
-thread_local Pool* current_pool = nullptr;
-}
 using detail::current_pool;
 
 Pool::Pool() : impl_(std::make_unique<detail::PoolImpl>(detail::next_pool_id.fetch_add(1))) {}
 Pool::~Pool() = default;
 
 Pool& Pool::current() {
-    if (current_pool) return *current_pool;
+    if (Pool* p = current_pool()) return *p;
     thread_local Pool default_pool;
     return default_pool;
 }
@@ -176,7 +173,7 @@ void Pool::clear_memo() noexcept {
     impl_->cpp_abs_literals.clear();
 }
 
-PoolScope::PoolScope(Pool& pool) noexcept : previous_(current_pool) { current_pool = &pool; }
-PoolScope::~PoolScope() { current_pool = previous_; }
+PoolScope::PoolScope(Pool& pool) noexcept : previous_(current_pool()) { current_pool() = &pool; }
+PoolScope::~PoolScope() { current_pool() = previous_; }
 
 } // namespace phynjo::cas

@@ -92,13 +92,18 @@ private:
     const Node* make(const NodeKey& key);
 };
 
-/// The calling thread's current pool, if a PoolScope set one (pool.cpp).
-extern thread_local Pool* current_pool;
+/// The calling thread's current pool, if a PoolScope set one. A function-local thread_local
+/// with a constant initializer: no guard and no TLS wrapper call (an `extern thread_local`
+/// goes through one, which UBSan reads as a null load in GCC 12).
+inline Pool*& current_pool() noexcept {
+    static thread_local Pool* p = nullptr;
+    return p;
+}
 
 /// The current pool's storage: inline, since every factory asks for it (a thread-local load
 /// and a branch; the thread's default pool out of line).
 inline PoolImpl& pool() {
-    if (Pool* p = current_pool) return p->impl();
+    if (Pool* p = current_pool()) return p->impl();
     return Pool::current().impl();
 }
 
