@@ -5,7 +5,6 @@
 #include "phynjo/cas/transform.hpp"
 
 #include <algorithm>
-#include <unordered_map>
 #include <unordered_set>
 
 namespace phynjo::cas {

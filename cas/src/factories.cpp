@@ -12,13 +12,11 @@
 #include <stdexcept>
 #include <string>
 #include <numeric>
-#include <unordered_set>
 
 namespace phynjo::cas {
 
 using detail::as_span;
-
-
+using detail::base_of;
 using detail::make_int;
 using detail::make_number;
 using detail::NodeKey;
@@ -130,13 +128,12 @@ bool less(Expr a, Expr b) noexcept { return compare(a, b) < 0; }
 // random expressions), asserted on every node the factories make, in builds with assertions
 // (Debug, and the sanitizer build, which compiles the CAS with them: SymEngine's habit).
 #ifndef NDEBUG
-Expr base_or_self(Expr f) { return f.kind() == Kind::Pow ? f.args()[0] : f; }
 void assert_canonical_mul(Expr coef, std::span<const Expr> factors) {
     assert(!coef.is_zero() && "Mul: a zero coefficient");
     assert((factors.size() >= 2 || !coef.is_one()) && "Mul: a lone factor with coefficient 1");
     for (std::size_t i = 0; i < factors.size(); ++i) {
         assert(factors[i].kind() != Kind::Number && factors[i].kind() != Kind::Mul && "Mul: a number or Mul factor");
-        assert((i == 0 || compare(base_or_self(factors[i - 1]), base_or_self(factors[i])) < 0) &&
+        assert((i == 0 || compare(base_of(factors[i - 1]), base_of(factors[i])) < 0) &&
                "Mul: factors not sorted by base, or a base twice");
     }
 }
@@ -344,7 +341,6 @@ namespace {
 struct Factor {
     Expr base, exp, original; // original: the factor as given (null after merging)
 };
-Expr base_of(Expr f) { return f.kind() == Kind::Pow ? f.args()[0] : f; }
 } // namespace
 
 Expr mul(std::span<const Expr> xs) {

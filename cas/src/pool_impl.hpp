@@ -8,7 +8,6 @@
 #include <cassert>
 #include <string>
 #include <memory_resource>
-#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -91,6 +90,10 @@ private:
     void grow();
     const Node* make(const NodeKey& key);
 };
+
+/// The base of a product's factor: b for b^e, the factor itself otherwise (the key by which a
+/// canonical Mul sorts its factors).
+inline Expr base_of(Expr f) noexcept { return f.kind() == Kind::Pow ? f.args()[0] : f; }
 
 /// The calling thread's current pool, if a PoolScope set one. A function-local thread_local
 /// with a constant initializer: no guard and no TLS wrapper call (an `extern thread_local`

@@ -93,12 +93,11 @@ private:
             return Prec::Atom;
         case Kind::Function: return function(x);
         case Kind::Pow: {
-            const Expr e = x.args()[1];
-            if (e.kind() == Kind::Number && detail::num_sign(e) < 0) {
+            if (in_denominator(x)) {
                 const Expr one[1] = {x};
                 return product(Expr(1), one);
             }
-            return power(x.args()[0], e);
+            return power(x.args()[0], x.args()[1]);
         }
         case Kind::Mul: return product(x->number, x.args());
         case Kind::Add: return sum(x);
@@ -285,8 +284,7 @@ private:
 
     // Display order of factors: numbers, constants, variables, functions, sums; then text.
     static int rank(Expr f) {
-        Expr b = f.kind() == Kind::Pow ? f.args()[0] : f;
-        switch (b.kind()) {
+        switch (detail::base_of(f).kind()) {
         case Kind::Number: return 0;
         case Kind::Constant: return 1;
         case Kind::Symbol:
@@ -357,15 +355,13 @@ private:
         return *memo.try_emplace(x, key(x)).first;
     }
 
-    static Expr key_base(Expr f) { return f.kind() == Kind::Pow ? f.args()[0] : f; } // factors sort by base
-
     /// Factors in display order: (rank, key of the base), ties in canonical order.
     static boost::container::small_vector<Expr, 8> display_order(std::span<const Expr> fs) {
         boost::container::small_vector<Expr, 8> out(fs.begin(), fs.end());
         if (fs.size() < 2) return out;
-        for (Expr f : fs) top_key(key_base(f)); // every key in the memo first: no insertion below moves them
+        for (Expr f : fs) top_key(detail::base_of(f)); // every key in the memo first: no insertion below moves them
         boost::container::small_vector<std::pair<std::pair<int, const std::string*>, Expr>, 8> keyed;
-        for (Expr f : fs) keyed.push_back({{rank(f), &top_key(key_base(f))}, f});
+        for (Expr f : fs) keyed.push_back({{rank(f), &top_key(detail::base_of(f))}, f});
         std::stable_sort(keyed.begin(), keyed.end(), [](const auto& x, const auto& y) {
             if (x.first.first != y.first.first) return x.first.first < y.first.first;
             return *x.first.second < *y.first.second;

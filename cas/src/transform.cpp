@@ -9,7 +9,6 @@
 
 #include <algorithm>
 #include <string>
-#include <unordered_set>
 
 namespace phynjo::cas {
 
@@ -290,8 +289,7 @@ Expr from_hterm(const HTerm& t) {
     bool sorted = true; // factors by base in canonical order (an atom that is a fractional power sorts by itself)
     for (const auto& [a, m] : t.atoms) {
         fs.push_back(m == 1 ? a : pow(a, Expr(m)));
-        const auto base = [](Expr f) { return f.kind() == Kind::Pow ? f.args()[0] : f; };
-        if (fs.size() > 1 && compare(base(fs[fs.size() - 2]), base(fs.back())) >= 0) sorted = false;
+        if (fs.size() > 1 && compare(detail::base_of(fs[fs.size() - 2]), detail::base_of(fs.back())) >= 0) sorted = false;
     }
     if (sorted) return detail::mul_sorted(t.coef, detail::as_span(fs));
     fs.insert(fs.begin(), t.coef);
@@ -425,6 +423,22 @@ bool contains(Expr e, Expr x) {
         if (y == x) return true;
         if (!seen.insert(y)) continue;
         for (Expr c : y.args()) stack.push_back(c);
+    }
+    return false;
+}
+
+bool contains_any(Expr e, const NodeSet& vars) {
+    NodeSet seen;
+    std::vector<Expr> stack{e};
+    while (!stack.empty()) {
+        const Expr x = stack.back();
+        stack.pop_back();
+        if (x.is_atom_variable()) {
+            if (vars.contains(x)) return true;
+            continue;
+        }
+        if (!seen.insert(x)) continue;
+        for (Expr c : x.args()) stack.push_back(c);
     }
     return false;
 }

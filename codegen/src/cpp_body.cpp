@@ -13,23 +13,6 @@ namespace phynjo::codegen::detail {
 
 namespace {
 
-/// True when `e` uses a variable (a Symbol, or x' as a whole) of `vars`: a walk of its DAG.
-bool mentions(Expr e, const cas::NodeSet& vars) {
-    cas::NodeSet seen;
-    std::vector<Expr> stack{e};
-    while (!stack.empty()) {
-        const Expr x = stack.back();
-        stack.pop_back();
-        if (x.is_atom_variable()) {
-            if (vars.contains(x)) return true;
-            continue;
-        }
-        if (!seen.insert(x)) continue;
-        for (Expr c : x.args()) stack.push_back(c);
-    }
-    return false;
-}
-
 /// The variables a CSE result uses (its temporaries among them), sorted by name.
 std::vector<Expr> variables_of(const cas::CseResult& r) {
     std::vector<Expr> all = r.outputs;
@@ -195,12 +178,12 @@ void body_split(const Names& names, const std::vector<Expr>& outputs, const std:
     cas::NodeSet is_late(late_variables.size() + r.assignments.size());
     for (Expr x : late_variables) is_late.insert(x);
     for (const auto& [t, v] : r.assignments) {
-        if (mentions(v, is_late)) is_late.insert(t);
+        if (cas::contains_any(v, is_late)) is_late.insert(t);
         else st.assign(early, t, v);
     }
     // the outputs that need no late variable are computed early (M, f, G, γ before the solve)
     std::vector<char> output_late(r.outputs.size());
-    for (std::size_t j = 0; j < r.outputs.size(); ++j) output_late[j] = mentions(r.outputs[j], is_late);
+    for (std::size_t j = 0; j < r.outputs.size(); ++j) output_late[j] = cas::contains_any(r.outputs[j], is_late);
     results.assign(r.outputs.size(), {});
     for (std::size_t j = 0; j < r.outputs.size(); ++j)
         if (!output_late[j]) results[j] = st.output(early, j, r.outputs[j]);

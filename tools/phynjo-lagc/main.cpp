@@ -102,8 +102,8 @@ bool write_file(const std::string& path, const std::string& text) {
 }
 
 /// The heap in large pages. A compile allocates a few megabytes and frees little; touched 4 KB
-/// at a time, that was ~1600 page faults, a fifth of compiling nlink_cart(10) (each fault
-/// zeroes and charges one page). So: the heap grows by PAD at a time, never shrinks, nothing
+/// at a time, that was ~1940 page faults for nlink_cart(10), most of the quarter of its time
+/// spent in the kernel (each fault zeroes and charges one page). So: the heap grows by PAD at a time, never shrinks, nothing
 /// goes to separate mappings, and the kernel is asked for transparent huge pages on it (a
 /// request, not a reservation: memory is still only taken when touched). glibc and Linux only.
 void prepare_heap() {

@@ -2,6 +2,7 @@
 /// \file
 /// Rewriting passes: expand, simplify, substitution, free symbols.
 #include "phynjo/cas/expr.hpp"
+#include "phynjo/cas/node_map.hpp"
 
 #include <span>
 #include <unordered_map>
@@ -46,5 +47,8 @@ std::vector<Expr> free_variables(Expr e);
 std::vector<Expr> free_variables(std::span<const Expr> es);
 /// True if `e` contains `x` (structurally).
 bool contains(Expr e, Expr x);
+/// True if `e` uses one of the variables in `vars` (Symbols, or x' as a whole: a walk that does
+/// not look inside a time derivative, as free_variables does not).
+bool contains_any(Expr e, const NodeSet& vars);
 
 } // namespace phynjo::cas
