@@ -486,6 +486,37 @@ bool negative_form(Expr x) {
     return false;
 }
 
+/// f(g(u)) where g is an inverse trigonometric function and the composition an identity on
+/// g's real domain: sin(asin u) = cos(acos u) = tan(atan u) = u, sin(acos u) = cos(asin u) =
+/// √(1 − u²), tan(asin u) = u/√(1 − u²), tan(acos u) = √(1 − u²)/u, sin(atan u) = u/√(1 + u²),
+/// cos(atan u) = 1/√(1 + u²). Null when x is no such function. (So `cos(th)` at th =
+/// acos(g/(R w²)) is g/(R w²) and an exact equilibrium is seen as one.)
+Expr of_inverse(Function f, Expr x) {
+    if (x.kind() != Kind::Function) return Expr{};
+    const auto g = static_cast<Function>(x->sub);
+    if (g != Function::Asin && g != Function::Acos && g != Function::Atan) return Expr{};
+    const Expr u = x.args()[0];
+    const Expr one = make_int(1), half = rational(1, 2), minus_half = rational(-1, 2);
+    const Expr u2 = pow(u, make_int(2));
+    const Expr c = pow(add({one, mul({make_int(-1), u2})}), half); // √(1 − u²)
+    if (g == Function::Atan) {
+        const Expr r = pow(add({one, u2}), minus_half); // 1/√(1 + u²)
+        switch (f) {
+        case Function::Sin: return mul({u, r});
+        case Function::Cos: return r;
+        case Function::Tan: return u;
+        default: return Expr{};
+        }
+    }
+    const bool direct = (f == Function::Sin) == (g == Function::Asin); // sin∘asin, cos∘acos
+    switch (f) {
+    case Function::Sin:
+    case Function::Cos: return direct ? u : c;
+    case Function::Tan: return g == Function::Asin ? mul({u, pow(c, make_int(-1))}) : mul({c, pow(u, make_int(-1))});
+    default: return Expr{};
+    }
+}
+
 /// sin(c·pi) for rational c whose denominator is 1, 2, 3, 4 or 6; null otherwise.
 Expr sin_pi(const mpq_class& c_in) {
     mpq_class c = c_in;
@@ -511,6 +542,7 @@ Expr sin_pi(const mpq_class& c_in) {
 } // namespace
 
 Expr sin(Expr x) {
+    if (Expr v = of_inverse(Function::Sin, x); !v.is_null()) return v;
     if (x.is_zero()) return x;
     if (Expr c = pi_multiple(x); !c.is_null())
         if (Expr v = sin_pi(c.value()); !v.is_null()) return v;
@@ -519,6 +551,7 @@ Expr sin(Expr x) {
 }
 
 Expr cos(Expr x) {
+    if (Expr v = of_inverse(Function::Cos, x); !v.is_null()) return v;
     if (x.is_zero()) return make_int(1);
     if (Expr c = pi_multiple(x); !c.is_null())
         if (Expr v = sin_pi(c.value() + mpq_class(1, 2)); !v.is_null()) return v;
@@ -527,6 +560,7 @@ Expr cos(Expr x) {
 }
 
 Expr tan(Expr x) {
+    if (Expr v = of_inverse(Function::Tan, x); !v.is_null()) return v;
     if (x.is_zero()) return x;
     if (Expr c = pi_multiple(x); !c.is_null()) {
         Expr s = sin_pi(c.value()), k = sin_pi(c.value() + mpq_class(1, 2));

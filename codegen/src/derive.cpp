@@ -71,6 +71,39 @@ std::optional<std::size_t> first_dependent_column(const Model& model, const std:
     return worst;
 }
 
+/// When row `k` of G (row-major, n columns) is c times an earlier row j with c free of the
+/// state and of t: j, c and d = φ_k − c·φ_j, zero when constraint k repeats j, a nonzero constant
+/// when no state satisfies both (`x = l` and `x = 2*l`). Nothing when no such row exists.
+struct Multiple {
+    std::size_t j;
+    Expr c, d;
+};
+std::optional<Multiple> multiple_of_earlier(const Model& model, const EquationsOfMotion& eom,
+                                                                std::size_t k) {
+    const std::size_t n = eom.dof;
+    auto row = [&](std::size_t r, std::size_t j) { return eom.constraint_matrix[r * n + j]; };
+    auto stateless = [&](Expr e) {
+        if (cas::contains(e, cas::time_symbol())) return false;
+        for (const auto& c : model.coordinates)
+            if (cas::contains(e, c.symbol) || cas::contains(e, cas::velocity(c.symbol))) return false;
+        return true;
+    };
+    for (std::size_t j = 0; j < k; ++j) {
+        std::size_t first = n;
+        for (std::size_t i = 0; i < n && first == n; ++i)
+            if (!row(j, i).is_zero()) first = i;
+        if (first == n) continue;
+        const Expr c = cas::simplify(row(k, first) / row(j, first));
+        if (c.is_zero() || !stateless(c)) continue;
+        bool multiple = true;
+        for (std::size_t i = 0; i < n && multiple; ++i) multiple = cas::simplify(row(k, i) - c * row(j, i)).is_zero();
+        if (!multiple) continue;
+        const Expr d = cas::simplify(eom.residuals[k] - c * eom.residuals[j]);
+        if (stateless(d)) return Multiple{j, c, d};
+    }
+    return std::nullopt;
+}
+
 /// The first coordinate whose column of M is dependent on the earlier ones at every one of a
 /// few random points, or nothing.
 std::optional<std::size_t> identically_singular(const Model& model, const std::vector<Expr>& M) {
@@ -195,8 +228,20 @@ std::optional<EquationsOfMotion> derive_impl(const Model& model, grammar::Diagno
         if (auto bad = first_dependent_column(model, Gt, n, m)) {
             const Constraint& c = model.constraints[*bad];
             std::string what;
+            const auto twin = *bad == 0 ? std::nullopt : multiple_of_earlier(model, eom, *bad);
             if (*bad == 0)
                 what = "constraint '" + c.name + "' does not restrict the motion: its row of the constraint matrix G is zero";
+            else if (twin && !twin->d.is_zero()) {
+                const Expr c_ = twin->c;
+                what = "constraint '" + c.name + "' is inconsistent with constraint '" + model.constraints[twin->j].name +
+                       "': (" + cas::to_string(eom.residuals[*bad]) + ") - " +
+                       (c_.is_one() ? std::string() : "(" + cas::to_string(c_) + ")*") + "(" +
+                       cas::to_string(eom.residuals[twin->j]) + ") = " + cas::to_string(twin->d) +
+                       ", a constant that is not zero: no state satisfies both";
+            }
+            else if (twin)
+                what = "constraint '" + c.name + "' repeats constraint '" + model.constraints[twin->j].name +
+                       "' (its residual is a constant multiple of that one's): remove one of them";
             else
                 what = "constraint '" + c.name + "' is redundant for every state: its row of the constraint matrix G is a "
                        "combination of the rows of the constraints before it (a constraint written twice, or implied by "

@@ -21,7 +21,7 @@ std::string emit_header(const Model& m, bool mass_depends_on_velocities) {
       << "/// Number of generalized coordinates.\ninline constexpr std::size_t dof = " << n << ";\n"
       << "/// The coordinates, in file order.\ninline constexpr std::array<std::string_view, dof> coordinate_names{";
     for (std::size_t i = 0; i < n; ++i) h << (i ? ", " : "") << '"' << m.coordinates[i].name << '"';
-    h << "};\n\n/// (v2) Number of constraints (lag-format.md, *Constraints*).\n"
+    h << "};\n\n/// Number of constraints (docs/language.md, *Constraints*).\n"
       << "inline constexpr std::size_t n_constraints = " << m.constraints.size() << ";\n"
       << "/// The constraints, in file order (the rows of G, the entries of lambda).\n"
       << "inline constexpr std::array<std::string_view, n_constraints> constraint_names{";
@@ -36,7 +36,7 @@ std::string emit_header(const Model& m, bool mass_depends_on_velocities) {
             if (p.input) h << (k++ ? ", " : "") << '"' << p.name << '"';
     }
     const std::size_t ne = m.events.size();
-    h << "};\n/// (v2) Number of events (lag-format.md, *Events*).\n"
+    h << "};\n/// Number of events (docs/language.md, *Events*).\n"
       << "inline constexpr std::size_t n_events = " << ne << ";\n"
       << "/// The events, in file order (the entries of event_guards).\n"
       << "inline constexpr std::array<std::string_view, n_events> event_names{";
@@ -49,7 +49,7 @@ std::string emit_header(const Model& m, bool mass_depends_on_velocities) {
       << "inline constexpr std::array<bool, n_events> event_stops{";
     for (std::size_t k = 0; k < ne; ++k) h << (k ? ", " : "") << (m.events[k].stop ? "true" : "false");
     h << "};\n"
-      << "/// (v2) Number of shapes (lag-format.md, *Shapes*).\n"
+      << "/// Number of shapes (docs/language.md, *Shapes*).\n"
       << "inline constexpr std::size_t n_shapes = " << m.shapes.size() << ";\n"
       << "/// The shapes, in file order.\n"
       << "inline constexpr std::array<std::string_view, n_shapes> shape_names{";
@@ -81,7 +81,7 @@ std::string emit_header(const Model& m, bool mass_depends_on_velocities) {
                 "                 std::span<double> M);\n"
               : "/// M(q, t) = ∂²L/∂q'∂q'.\n"
                 "void mass_matrix(const Parameters& P, double t, std::span<const double> q, std::span<double> M);\n")
-      << "/// f(q, q', t) of M q'' = f (lag-format.md, *Meaning*).\n"
+      << "/// f(q, q', t) of M q'' = f (docs/language.md).\n"
       << "void forcing(const Parameters& P, double t, std::span<const double> q, std::span<const double> qdot,\n"
       << "             std::span<double> f);\n"
       << (m.constraints.empty()

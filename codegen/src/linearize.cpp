@@ -208,11 +208,15 @@ Linearization linearize(const Model& model, const EquationsOfMotion& eom,
     }
     for (std::size_t i = 0; i < n; ++i) lin.rate.push_back(lin.state[n + i]);
     for (std::size_t i = 0; i < n; ++i) lin.rate.push_back(solution[i]);
+    for (Expr r : lin.rate) lin.rate_values.push_back(cas::evaluate(r, defaults));
 
     Eigen::MatrixXd An(N, N);
     for (std::size_t i = 0; i < N; ++i)
-        for (std::size_t j = 0; j < N; ++j)
-            An(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = cas::evaluate(lin.A[i * N + j], defaults);
+        for (std::size_t j = 0; j < N; ++j) {
+            const double a = cas::evaluate(lin.A[i * N + j], defaults);
+            An(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = a;
+            lin.A_values.push_back(a);
+        }
     const Eigen::EigenSolver<Eigen::MatrixXd> solver(An, false);
     for (Eigen::Index k = 0; k < solver.eigenvalues().size(); ++k) lin.eigenvalues.push_back(solver.eigenvalues()[k]);
     std::stable_sort(lin.eigenvalues.begin(), lin.eigenvalues.end(), [](auto a, auto b) {
@@ -243,8 +247,14 @@ std::string emit_linear(const Model& model, const Linearization& lin, bool latex
     const std::size_t N = lin.state_names.size(), U = lin.input_names.size();
     std::ostringstream s;
     auto print = [&](Expr e) { return latex ? cas::to_latex(e) : cas::to_string(e); };
-    bool equilibrium = true;
-    for (Expr r : lin.rate) equilibrium = equilibrium && r.is_zero();
+    bool proved = true;
+    for (Expr r : lin.rate) proved = proved && r.is_zero();
+    // not proved zero: its value at the defaults against the size of A's entries there
+    double residual = 0, size = 1;
+    for (double v : lin.rate_values) residual = std::max(residual, std::fabs(v));
+    for (double v : lin.A_values) size = std::max(size, std::fabs(v));
+    const bool numerically = !proved && residual <= 1e-12 * size;
+    const bool equilibrium = proved || numerically;
     double scale = 0;
     for (auto z : lin.eigenvalues) scale = std::max(scale, std::abs(z));
     std::size_t unstable = 0;
@@ -259,7 +269,17 @@ std::string emit_linear(const Model& model, const Linearization& lin, bool latex
     for (std::size_t i = 0; i < U; ++i) s << (i ? ", " : "") << lin.input_names[i];
     s << ")\n" << c << "y'(y0) = (";
     for (std::size_t i = 0; i < N; ++i) s << (i ? ", " : "") << cas::to_string(lin.rate[i]);
-    s << ")" << (equilibrium ? ": an equilibrium" : ": not an equilibrium (a linearization about a moving state)") << "\n";
+    s << ")";
+    if (proved) s << ": an equilibrium\n";
+    else {
+        s << "\n" << c << "  = (";
+        for (std::size_t i = 0; i < N; ++i) s << (i ? ", " : "") << number(lin.rate_values[i]);
+        s << ") at the parameters' defaults: ";
+        if (numerically)
+            s << "an equilibrium not proved symbolically, numerically zero to " << number(residual) << "\n";
+        else
+            s << "not an equilibrium (a linearization about a moving state)\n";
+    }
     auto matrix = [&](const char* name, const std::vector<Expr>& M, std::size_t cols) {
         if (latex) {
             s << name << " = \\begin{pmatrix}\n";

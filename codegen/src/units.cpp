@@ -303,9 +303,12 @@ std::optional<Dim> Checker::of(const ast::Product& p) {
                            "expression with names (it has the dimension of its names)");
             return std::nullopt;
         }
-        auto u = of(*p.unit);
-        if (!u) return std::nullopt;
-        return u; // a number with a unit, 0 included
+        d = of(*p.unit); // a number with a unit, 0 included
+        for (const ast::ProductOp& op : p.after) { // `0.5 [N]*x`: the quantity times the rest
+            auto f = of(op.operand);
+            if (!d || !f) return std::nullopt;
+            d = op.op == '*' ? *d * *f : *d / *f;
+        }
     }
     return d;
 }

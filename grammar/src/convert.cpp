@@ -61,18 +61,19 @@ private:
         Opt first = unary(p.first);
         if (!first) return std::nullopt;
         std::vector<Expr> factors{*first};
-        for (const ast::ProductOp& op : p.rest) {
-            Opt u = unary(op.operand);
-            if (!u) return std::nullopt;
-            if (op.op == '/') {
-                if (u->is_zero()) {
-                    error(op.operand, "division by zero");
-                    return std::nullopt;
-                }
-                factors.push_back(guarded(op.operand, [&] { return cas::pow(*u, Expr(-1)); }));
-            } else factors.push_back(*u);
-            if (failed_) return std::nullopt;
-        }
+        for (const auto* ops : {&p.rest, &p.after})
+            for (const ast::ProductOp& op : *ops) {
+                Opt u = unary(op.operand);
+                if (!u) return std::nullopt;
+                if (op.op == '/') {
+                    if (u->is_zero()) {
+                        error(op.operand, "division by zero");
+                        return std::nullopt;
+                    }
+                    factors.push_back(guarded(op.operand, [&] { return cas::pow(*u, Expr(-1)); }));
+                } else factors.push_back(*u);
+                if (failed_) return std::nullopt;
+            }
         Expr r = guarded(p, [&] { return cas::mul(factors); });
         return failed_ ? Opt{} : Opt{r};
     }

@@ -139,7 +139,8 @@ inline const auto unary_def = *x3::char_('-') >> power;
 inline const auto product_op_def = x3::char_("*/") > unary;
 // (v2) `[unit]`: any text up to `]` on the line; phynjo-lagc's front end reads it
 inline const auto unit_def = '[' > x3::lexeme[*(x3::char_ - x3::char_("[]\n"))] > ']';
-inline const auto product_def = unary >> *product_op >> -unit;
+// a quantity may be a factor: `0.5 [N]*x` (the unit binds to the numbers before it)
+inline const auto product_def = unary >> *product_op >> -unit >> *product_op;
 // `-` followed by `>` is the arrow of an event statement, not a minus
 inline const auto sum_op_def = (x3::char_('+') | (x3::char_('-') >> !x3::lit('>'))) > product;
 inline const auto expression_def = product >> *sum_op;

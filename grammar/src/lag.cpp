@@ -218,6 +218,13 @@ ParsedModel parse_model(std::string_view text, Positions& positions, DiagnosticS
                                              " (a statement goes on to the next line only inside parentheses: "
                                              "wrap it in ( ) )");
                     continuation_pending = true;
+                } else if ((report.which == "expression" || report.which == "operand") && at > r.begin &&
+                           text[at] == '=' && (text[at - 1] == '<' || text[at - 1] == '>')) {
+                    // `event e: y <= 0 -> …`: a guard crosses, it has no equality
+                    sink.error(at - 1, 2,
+                               "'" + std::string(text.substr(at - 1, 2)) + "' is not an operator here: an event's guard "
+                               "is written with '<' or '>' (it fires when the sides cross, so equality adds nothing): "
+                               "write '" + std::string(1, text[at - 1]) + "'");
                 } else lexical::report_expected(text, at, r.end, report.which, "end of line", sink);
                 failed = true;
             } else {
@@ -228,7 +235,7 @@ ParsedModel parse_model(std::string_view text, Positions& positions, DiagnosticS
                     if (!after_break)
                         lexical::report_expected(text, at, r.end,
                                                  "a statement (model, coordinates, parameters, let, lagrangian, "
-                                                 "dissipation, force, initial, input, constraint or event)",
+                                                 "dissipation, force, initial, input, constraint, event or shape)",
                                                  "end of line", sink,
                                                  meant.empty() ? std::string() : " (did you mean '" + std::string(meant) + "'?)");
                     if (!meant.empty()) {

@@ -130,3 +130,36 @@ TEST_CASE("horner: common factors out of sums, same value, fewer operations", "[
         RC_ASSERT(std::fabs(*w - *v) <= 1e-9L * (1 + std::fabs(*v)));
     }, {.cases = 500});
 }
+
+// Catches: compositions of a trigonometric function with an inverse one left unsimplified (so
+// an exact equilibrium at th = acos(...) is called "not an equilibrium"), or simplified with the
+// wrong identity (sin(acos u) = u, a sign, 1 + u² for 1 − u²). The oracle: the values of both
+// sides at points inside each inverse function's domain, computed by the C library.
+TEST_CASE("trigonometric functions of inverse ones: the identities on the real domain", "[cas][simplify]") {
+    CHECK(parse("cos(acos(u))") == parse("u"));
+    CHECK(parse("sin(asin(u))") == parse("u"));
+    CHECK(parse("tan(atan(u))") == parse("u"));
+    CHECK(parse("cos(acos(g/(R*w^2)))") == parse("g/(R*w^2)"));
+    CHECK(parse("sin(asin(-u))") == parse("-u"));
+    const char* cases[][2] = {{"sin(acos(u))", "sqrt(1 - u^2)"},    {"cos(asin(u))", "sqrt(1 - u^2)"},
+                              {"tan(asin(u))", "u/sqrt(1 - u^2)"},  {"tan(acos(u))", "sqrt(1 - u^2)/u"},
+                              {"sin(atan(u))", "u/sqrt(1 + u^2)"},  {"cos(atan(u))", "1/sqrt(1 + u^2)"},
+                              {"cos(acos(u))", "u"},                {"sin(asin(u))", "u"}};
+    for (const auto& [in, want] : cases) {
+        const Expr got = parse(in);
+        INFO(in << " -> " << to_string(got));
+        CHECK(got == parse(want));
+        for (double u : {-0.9, -0.3, 0.2, 0.75}) {
+            const Bindings<double> at{{symbol("u"), u}};
+            const std::string f(in);
+            const double inner = f.find("acos") != std::string::npos   ? std::acos(u)
+                                 : f.find("asin") != std::string::npos ? std::asin(u)
+                                                                       : std::atan(u);
+            const double outer = f.rfind("sin", 0) == 0 ? std::sin(inner) : f.rfind("cos", 0) == 0 ? std::cos(inner) : std::tan(inner);
+            CHECK(evaluate(got, at) == Approx(outer).epsilon(1e-14));
+        }
+    }
+    // not identities: a multiple of the angle, an inverse function of another argument
+    CHECK(to_string(parse("cos(2*acos(u))")) == "cos(2*acos(u))");
+    CHECK(to_string(parse("sinh(asin(u))")) == "sinh(asin(u))");
+}

@@ -9,6 +9,7 @@
 #include "pendulum.hpp"
 #include "rolling_disk.hpp"
 #include "slider_crank.hpp"
+#include "unreachable.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -359,4 +360,28 @@ TEST_CASE("inputs: a torque changed between steps acts at the next step (live_wo
     CHECK(live.at(kGV, 0) < w0);
     CHECK(fixed.at(kGV, 0) > w0);
     CHECK(worst(slider_crank::system(P), live) < 1e-11);
+}
+
+// Bug caught: a constraint that no state satisfies (x² + y² = −l²) reported as a dead point or
+// a bifurcation (SingularConstraints) or a bare non-convergence, without its name and residual.
+// From (1, 0) Gauss–Newton halves towards the origin, x ← (x² − 1)/(2x) = 0, where G = 0
+// and φ = l² = 1.
+TEST_CASE("a constraint no state satisfies: UnreachableConstraint names it with its residual", "[codegen][constraints]") {
+    const unreachable::Parameters P;
+    const LagrangianSystem sys = unreachable::system(P);
+    std::vector<double> q{1, 0}, v{0, 0};
+    try {
+        project_onto_constraints(sys, 0, q, v);
+        FAIL("no exception");
+    } catch (const UnreachableConstraint& e) {
+        CHECK(e.constraint() == "ring");
+        CHECK(e.residual() == 1.0);
+        CHECK_THAT(e.what(), Catch::Contains("constraint 'ring' cannot be reached: its residual stays at 1 "));
+        CHECK_THAT(e.what(), Catch::Contains("at these parameters perhaps none does"));
+    }
+    // a projection that merely starts far away still lands on a reachable constraint
+    const cartesian_pendulum::Parameters C;
+    std::vector<double> qc{3, -4}, vc{0, 0};
+    project_onto_constraints(cartesian_pendulum::system(C), 0, qc, vc);
+    CHECK(qc[0] * qc[0] + qc[1] * qc[1] == Approx(C.l * C.l).epsilon(1e-12));
 }

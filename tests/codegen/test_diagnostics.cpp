@@ -1,6 +1,10 @@
 // Golden diagnostics for .lag files: every error class of lag-format.md, exactly as a user
 // sees it, several per run where possible.
+#include "compiled_model.hpp"
+
+#include "phynjo/cas/cas.hpp"
 #include "phynjo/codegen/equations.hpp"
+#include "phynjo/grammar/expression.hpp"
 #include "phynjo/codegen/frontend.hpp"
 
 #include <catch2/catch.hpp>
@@ -100,7 +104,7 @@ TEST_CASE("lag diagnostics: syntax, file-level problems, several errors per run"
           "m.lag:2:16: error: unmatched ')'\n    lagrangian q'^2)\n                   ^\n");
     CHECK(diagnose("coordinates q\nlagrangain q'^2\n") ==
           "m.lag:2:1: error: expected a statement (model, coordinates, parameters, let, lagrangian, dissipation, force, "
-          "initial, input, constraint or event), found 'lagrangain' (did you mean 'lagrangian'?)\n    lagrangain q'^2\n    ^~~~~~~~~~\n");
+          "initial, input, constraint, event or shape), found 'lagrangain' (did you mean 'lagrangian'?)\n    lagrangain q'^2\n    ^~~~~~~~~~\n");
     CHECK(diagnose("coordinates q\nlagrangian 1/2*q'^2 +\n") ==
           "m.lag:2:22: error: expected an expression, found end of line\n    lagrangian 1/2*q'^2 +\n                         ^\n");
     CHECK(diagnose(std::string("coordinates q\nlagrangian q'^2 \xff\n")) ==
@@ -154,8 +158,8 @@ TEST_CASE("lag diagnostics: what a first-time user writes", "[codegen][diagnosti
 TEST_CASE("lag diagnostics: constraints and inputs, with notes", "[codegen][diagnostics][constraints]") {
     CHECK(diagnose("coordinates x, y\nlagrangian 1/2*(x'^2 + y'^2)\nconstraint rod: x^2 + y^2 = 1\n"
                    "constraint again: 3*x^2 + 3*y^2 = 3\n") ==
-          "m.lag:4:12: error: constraint 'again' is redundant for every state: its row of the constraint matrix G is a "
-          "combination of the rows of the constraints before it (a constraint written twice, or implied by others)\n"
+          "m.lag:4:12: error: constraint 'again' repeats constraint 'rod' (its residual is a constant multiple of that "
+          "one's): remove one of them\n"
           "    constraint again: 3*x^2 + 3*y^2 = 3\n               ^~~~~\n"
           "m.lag:3:12: note: constraint 'rod' is here\n    constraint rod: x^2 + y^2 = 1\n               ^~~\n");
     CHECK(diagnose("coordinates x, y\nlagrangian 1/2*(x'^2 + y'^2)\nconstraint c: x = 1\nconstraint c: y = 1\n") ==
@@ -248,4 +252,16 @@ TEST_CASE("lag diagnostics: units and dimensions", "[codegen][diagnostics][units
                    "dissipation P*sin(2*pi*f*t)\nforce x = 0\ninitial x = 1/10 [m], th' = 2 [1/s]\n") == "(accepted)");
     // a file without units: nothing is checked (this L is no energy, and that is fine)
     CHECK(diagnose("coordinates x\nlagrangian x'^2 + x\n") == "(accepted)");
+    // a quantity as a factor (`0.5 [N]*x`): accepted, its dimension checked as a product's
+    // (a force times a squared length is no energy), its value the quantity times the rest:
+    // L = m x'²/2 − x²/2 gives f = −x, and the force −0.1 x'
+    CHECK(diagnose("coordinates x [m], th [rad]\nparameters m = 2 [kg]\n"
+                   "lagrangian 1/2*m*x'^2 - 1/2 [N/m]*x^2 + 1/2 [kg*m^2]*th'^2 - 3 [N]*(1/10 [m])*cos(th)\n"
+                   "force x = -0.1 [N*s/m]*x' + 0.1 [N]*sin(th)\n") == "(accepted)");
+    CHECK(diagnose("coordinates x [m]\nparameters m = 2 [kg]\nlagrangian 1/2*m*x'^2 - 0.5 [N]*x^2\n") ==
+          "m.lag:3:25: error: a term of the Lagrangian is not an energy: expected J = kg*m^2/s^2, found kg*m^3/s^2\n"
+          "    lagrangian 1/2*m*x'^2 - 0.5 [N]*x^2\n                            ^~~~~~~~~~~\n");
+    const auto c = phynjo::test::compile_model("coordinates x [m]\nparameters m = 2 [kg]\n"
+                                               "lagrangian 1/2*m*x'^2 - 1/2 [N/m]*x^2\nforce x = -0.1 [N*s/m]*x'\n");
+    CHECK(phynjo::cas::simplify(c.eom.forcing[0] - phynjo::grammar::parse("-x - 1/10*x'")).is_zero());
 }

@@ -170,3 +170,31 @@ TEST_CASE("linearization: bad states are clear errors", "[codegen][linearize]") 
                                "lagrangian 1/2*m*l^2*(th'^2 + sin(th)^2*ph'^2) + m*g*l*cos(th)\n");
     CHECK_THROWS_AS(at(s, {{"th", "0"}}), codegen::LinearizeError); // M = diag(m l², 0) at the pole
 }
+
+// Bugs caught: an exact equilibrium called "not an equilibrium" because cos(acos(u)) is not
+// simplified (the bead on a hoop turning at w, th = acos(g/(R w²))); a residual that only
+// rounding keeps from zero reported as a moving state, or no value shown for it. The oracle
+// for A: θ'' = sin θ (w² cos θ − g/R), so ∂θ''/∂θ = −w² sin²θ = g²/(R² w²) − w² there.
+TEST_CASE("linearization: the bead on a turning hoop off the axis, an equilibrium proved or seen numerically",
+          "[codegen][linearize]") {
+    const Compiled c = compile("model hoop\ncoordinates th\nparameters m = 1, R = 1, w = 5, g = 9.81\n"
+                               "let x = R*sin(th)*cos(w*t)\nlet y = R*sin(th)*sin(w*t)\nlet z = -R*cos(th)\n"
+                               "lagrangian 1/2*m*(x'^2 + y'^2 + z'^2) - m*g*z\n");
+    const auto lin = at(c, {{"th", "acos(g/(R*w^2))"}});
+    for (Expr r : lin.rate) CHECK(r.is_zero());
+    CHECK(same(lin.A[2], "g^2/(R^2*w^2) - w^2"));
+    const std::string text = codegen::emit_linear(c.model, lin, false);
+    CHECK(text.find("(0, 0): an equilibrium\n") != std::string::npos);
+    // the same point written so that the simplifier cannot prove it: its value is shown
+    const auto num = at(c, {{"th", "asin(sqrt(1 - g^2/(R^2*w^4)))"}});
+    const std::string t2 = codegen::emit_linear(c.model, num, false);
+    INFO(t2);
+    CHECK(!num.rate[1].is_zero());
+    CHECK(std::fabs(num.rate_values[1]) < 1e-13);
+    CHECK(t2.find("at the parameters' defaults: an equilibrium not proved symbolically, numerically zero to") !=
+          std::string::npos);
+    // a point that is no equilibrium: its rate at the defaults, w² cos 1 sin 1 − g sin 1 = 3.11139
+    const std::string t3 = codegen::emit_linear(c.model, at(c, {{"th", "1"}}), false);
+    INFO(t3);
+    CHECK(t3.find("= (0, 3.11139) at the parameters' defaults: not an equilibrium") != std::string::npos);
+}

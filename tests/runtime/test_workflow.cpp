@@ -133,3 +133,30 @@ TEST_CASE("checked mode catches a rule that writes outside its domain", "[runtim
         CHECK(std::string(e.what()) == "rule 'liar' changed q:body2, outside its declared domain");
     }
 }
+
+// Catches: a Stepper whose time is a running sum (3,000 steps of 1 ms end at 3 − 2.2e-13, so a
+// controller's `t < 1.5` holds one step too long); a sequence that does not restart from a time
+// set between steps, or from a new dt. The oracle: t = t0 + k·dt, rounded once.
+TEST_CASE("Stepper: the time after k steps is t0 + k*dt, not a running sum", "[runtime][workflow]") {
+    Fixture f(1);
+    int before = 0; // steps that began with t < 1.5
+    NumericRule controller{"controller", Domain(kQ, ComponentSet{0}), Domain(), [&before](double, World& w) {
+                               if (w.time < 1.5) ++before;
+                               w.at(kQ, 0) = w.time;
+                           }, f.layout};
+    Stepper s(NumericWorkflow::run(controller));
+    World w = f.world;
+    w.time = 0;
+    for (int k = 0; k < 3000; ++k) s.step(w, 1e-3);
+    CHECK(w.time == 3.0);
+    CHECK(before == 1500);
+    double sum = 0;
+    for (int k = 0; k < 3000; ++k) sum += 1e-3;
+    CHECK(sum != 3.0); // what a running sum gives
+    // run() and run_guarded() are step() too; a time set between steps starts a new sequence
+    w.time = 0.5;
+    s.run(w, 1e-3, 1000);
+    CHECK(w.time == 0.5 + 1000 * 1e-3);
+    CHECK(s.run_guarded(w, 0.1, 7).completed);
+    CHECK(w.time == (0.5 + 1000 * 1e-3) + 7 * 0.1);
+}

@@ -31,8 +31,19 @@ for bad in "--rest-speed 0" "--rest-speed -1" "--max-events-per-step 0" "--max-e
 done
 "$ball" --t-end 1 --events "$work/no/such/dir.csv" >/dev/null 2>&1; [ $? -eq 1 ] && ok "unwritable events file: exit 1" || bad "unwritable events file"
 
+# a stop event ends the run as the model asks: exit 0 (the help's exit codes), the output
+# ending at the crossing, stderr naming the event
+flip="$bin/flip_pendulum_sim"
+"$flip" --init th1=2.5,th2=2.5 --t-end 20 -o "$work/flip.csv" --events "$work/fe.csv" 2>"$work/flip.err"; rc=$?
+[ $rc -eq 0 ] && grep -q "the run stopped at t = 1.92083.*: event 'flip1_back'" "$work/flip.err" \
+  && [ "$(tail -1 "$work/flip.csv" | cut -d, -f1)" = "$(tail -1 "$work/fe.csv" | cut -d, -f1)" ] \
+  && ok "stop event: exit 0, the output ends at the crossing, stderr names the event" \
+  || bad "stop event: exit $rc, $(cat "$work/flip.err")"
+"$flip" --help | grep -q "0 done (also when a stop event ended the run)" && ok "--help: a stop event exits 0" \
+  || bad "--help does not say what a stop event exits with"
+
 # the pendulum at the wall: every impact at th = th_wall, with every integrator
-for integrator in rk4 dopri midpoint cvode ida; do
+for integrator in rk4 dopri midpoint rattle cvode ida bdf; do
   "$wall" --t-end 8 --integrator $integrator --events "$work/w.csv" -o /dev/null 2>/dev/null; rc=$?
   n=$(awk -F, 'NR > 1 && ($3 + 0.3 > 1e-8 || $3 + 0.3 < -1e-8) { bad++ } NR > 1 { n++ } END { print (bad ? -1 : n) }' "$work/w.csv")
   [ $rc -eq 0 ] && [ "$n" -ge 5 ] && ok "pendulum-wall with $integrator: $n impacts at the wall" || bad "pendulum-wall $integrator: exit $rc, $n"

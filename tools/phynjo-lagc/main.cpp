@@ -34,7 +34,7 @@ constexpr const char* usage_text = R"(usage: phynjo-lagc MODEL.lag -o OUT.cpp [-
        phynjo-lagc MODEL.lag --emit=eom|latex|cpp [-o FILE]
        phynjo-lagc MODEL.lag --emit=linear --at x=EXPR,...,x'=EXPR [--format=latex] [-o FILE]
 
-Compiles a Lagrangian model (.lag, see lag-format.md) to C++: OUT.cpp and, beside it, OUT.hpp
+Compiles a Lagrangian model (.lag, see docs/language.md) to C++: OUT.cpp and, beside it, OUT.hpp
 declaring the model's namespace (dof, Parameters, mass_matrix, forcing, accelerations,
 momenta, energy, initial_state, and the runtime integration: system, make_world, workflow).
 

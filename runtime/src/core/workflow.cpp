@@ -34,7 +34,7 @@ RunReport Stepper::run_guarded(World& world, double dt, std::size_t steps) {
     }
     for (std::size_t k = 0; k < steps; ++k) {
         try {
-            interpreter_.step(world, dt);
+            step(world, dt);
         } catch (const std::exception& e) {
             stop(std::string("a rule failed: ") + e.what());
             return r;

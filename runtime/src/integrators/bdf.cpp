@@ -65,12 +65,16 @@ struct Bdf::Impl {
     std::vector<double> y_predict, psi, weight, y, d, dy, f;
     sundials::LastState last;
     Stats stats;
+    mutable std::vector<double> dense_y; ///< dense()'s scratch
+
+    /// Internal steps until t ≥ t_end, or `one` (the errors of advance).
+    void steps_until(World& w, double t_end, bool one);
 
     Impl(LagrangianSystem s, Options o) : sys(std::move(s)), opt(o), n(sys.dof), N(2 * sys.dof), newton(sys.dof) {
         D.assign((kMaxOrder + 3) * N, 0.0);
         old.assign((kMaxOrder + 1) * N, 0.0);
         J.assign(N * N, 0.0);
-        for (auto* v : {&y_predict, &psi, &weight, &y, &d, &dy, &f}) v->assign(N, 0.0);
+        for (auto* v : {&y_predict, &psi, &weight, &y, &d, &dy, &f, &dense_y}) v->assign(N, 0.0);
     }
 
     double* row(int j) { return D.data() + static_cast<std::size_t>(j) * N; }
@@ -316,8 +320,8 @@ struct Bdf::Impl {
         return true;
     }
 
-    /// y at t_out ∈ [t − h, t] from the interpolating polynomial of D₀…D_order into the world.
-    void output(World& w, double t_out) {
+    /// y at t_out ∈ [t − h, t] from the interpolating polynomial of D₀…D_order into `out`.
+    void interpolate(double t_out, double* out) const {
         const double h = h_abs;
         for (std::size_t i = 0; i < N; ++i) {
             double p = 1, s = D[i];
@@ -325,8 +329,13 @@ struct Bdf::Impl {
                 p *= (t_out - (t - h * (j - 1))) / (h * j);
                 s += D[j * N + i] * p;
             }
-            y[i] = s;
+            out[i] = s;
         }
+    }
+
+    /// y at t_out ∈ [t − h, t] (interpolate) into the world.
+    void output(World& w, double t_out) {
+        interpolate(t_out, y.data());
         for (std::size_t i = 0; i < n; ++i) {
             w.at(kGQ, static_cast<Index>(i)) = y[i];
             w.at(kGV, static_cast<Index>(i)) = y[n + i];
@@ -347,6 +356,29 @@ Bdf::Bdf(LagrangianSystem system, Options options) {
 
 Bdf::~Bdf() = default;
 
+void Bdf::Impl::steps_until(World& w, double t_end, bool one) {
+    // a failure leaves the world at the last accepted step
+    auto stop = [&](const std::string& why) {
+        output(w, t);
+        last.remember(w, n);
+        throw ConvergenceError("Bdf stopped at t = " + std::to_string(t) + ": " + why);
+    };
+    try {
+        for (long taken = 0; t < t_end && !(one && taken == 1); ++taken) {
+            if (taken == opt.max_steps)
+                stop("max_steps (" + std::to_string(opt.max_steps) + ") internal steps before t = " + std::to_string(t_end));
+            if (!step()) stop("the step size fell below 10 ulp of t");
+        }
+    } catch (const ConvergenceError&) {
+        throw;
+    } catch (...) {
+        output(w, t);
+        last.remember(w, n);
+        started = false; // the model threw inside a step: start afresh next time
+        throw;
+    }
+}
+
 void Bdf::advance(World& w, double t_end) {
     auto& k = *impl_;
     if (!(t_end >= w.time))
@@ -357,28 +389,33 @@ void Bdf::advance(World& w, double t_end) {
         k.last.remember(w, k.n);
         return;
     }
-    // a failure leaves the world at the last accepted step
-    auto stop = [&](const std::string& why) {
-        k.output(w, k.t);
-        k.last.remember(w, k.n);
-        throw ConvergenceError("Bdf stopped at t = " + std::to_string(k.t) + ": " + why);
-    };
-    try {
-        for (long steps = 0; k.t < t_end; ++steps) {
-            if (steps == k.opt.max_steps)
-                stop("max_steps (" + std::to_string(k.opt.max_steps) + ") internal steps before t = " + std::to_string(t_end));
-            if (!k.step()) stop("the step size fell below 10 ulp of t");
-        }
-    } catch (const ConvergenceError&) {
-        throw;
-    } catch (...) {
-        k.output(w, k.t);
-        k.last.remember(w, k.n);
-        k.started = false; // the model threw inside a step: start afresh next time
-        throw;
-    }
+    k.steps_until(w, t_end, false);
     k.output(w, t_end);
     k.last.remember(w, k.n);
+}
+
+void Bdf::step(World& w, double t_end) {
+    auto& k = *impl_;
+    if (!(t_end > w.time))
+        throw std::invalid_argument("Bdf::step: t_end " + std::to_string(t_end) + " is not after the world's time " +
+                                    std::to_string(w.time));
+    if (!k.started || !k.last.matches(w, k.n)) k.start(w);
+    // one internal step unless the last one already reaches past the world (its output was interpolated)
+    if (!(k.t > w.time)) k.steps_until(w, t_end, true);
+    k.output(w, std::min(k.t, t_end));
+    k.last.remember(w, k.n);
+}
+
+void Bdf::dense(double t, std::span<double> q, std::span<double> qdot) const {
+    const auto& k = *impl_;
+    if (q.size() != k.n || qdot.size() != k.n)
+        throw std::invalid_argument("Bdf::dense: q and qdot must have length " + std::to_string(k.n));
+    if (!k.started) throw std::logic_error("Bdf::dense: no step taken yet");
+    k.interpolate(t, k.dense_y.data());
+    for (std::size_t i = 0; i < k.n; ++i) {
+        q[i] = k.dense_y[i];
+        qdot[i] = k.dense_y[k.n + i];
+    }
 }
 
 Bdf::Stats Bdf::stats() const { return impl_->stats; }

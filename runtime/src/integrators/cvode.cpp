@@ -12,6 +12,7 @@
 #include <sunlinsol/sunlinsol_dense.h>
 #include <sunmatrix/sunmatrix_dense.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <exception>
 #include <stdexcept>
@@ -25,7 +26,7 @@ struct Cvode::Impl {
     Options opt;
     std::size_t n = 0, N = 0;
     SUNContext ctx = nullptr;
-    N_Vector y = nullptr;
+    N_Vector y = nullptr, dense_y = nullptr;
     SUNMatrix A = nullptr;
     SUNLinearSolver LS = nullptr;
     std::unique_ptr<sundials::SecondOrderNewton> newton; ///< the reduced Newton systems, or A and LS
@@ -116,11 +117,15 @@ struct Cvode::Impl {
 
     static void check(int flag, const char* what) { sundials::check_setup(flag, "CVODE", what, CVodeGetReturnFlagName); }
 
+    /// Continues from w when it is where the last call left the state, else (re)starts there.
+    void prepare(const World& w);
+
     ~Impl() {
         if (mem) CVodeFree(&mem);
         newton.reset();
         if (LS) SUNLinSolFree(LS);
         if (A) SUNMatDestroy(A);
+        if (dense_y) N_VDestroy(dense_y);
         if (y) N_VDestroy(y);
         if (ctx) SUNContext_Free(&ctx);
     }
@@ -142,6 +147,7 @@ Cvode::Cvode(LagrangianSystem system, Options options) : impl_(std::make_unique<
     k.check(SUNContext_Create(nullptr, &k.ctx), "SUNContext_Create");
     const auto N = static_cast<sunindextype>(k.N);
     k.y = N_VNew_Serial(N, k.ctx);
+    k.dense_y = N_VNew_Serial(N, k.ctx);
     if (options.exact_jacobian && options.linear_solver == Options::LinearSolver::second_order) {
         k.newton = std::make_unique<sundials::SecondOrderNewton>(k.n, k.ctx);
     } else {
@@ -149,14 +155,14 @@ Cvode::Cvode(LagrangianSystem system, Options options) : impl_(std::make_unique<
         k.LS = SUNLinSol_Dense(k.y, k.A, k.ctx);
     }
     k.mem = CVodeCreate(CV_BDF, k.ctx);
-    if (!k.y || (!k.newton && (!k.A || !k.LS)) || !k.mem) throw std::runtime_error("Cvode: out of memory");
+    if (!k.y || !k.dense_y || (!k.newton && (!k.A || !k.LS)) || !k.mem) throw std::runtime_error("Cvode: out of memory");
     sundials::use_fast_serial_ops(k.y); // CVODE's vectors are clones of y
 }
 
 Cvode::~Cvode() = default;
 
-void Cvode::advance(World& w, double t_end) {
-    auto& k = *impl_;
+void Cvode::Impl::prepare(const World& w) {
+    auto& k = *this;
     double* y = N_VGetArrayPointer(k.y);
     // continue only from where the last call left the state
     if (!k.last.matches(w, k.n)) {
@@ -183,6 +189,12 @@ void Cvode::advance(World& w, double t_end) {
             k.check(CVodeReInit(k.mem, w.time, k.y), "CVodeReInit");
         }
     }
+}
+
+void Cvode::advance(World& w, double t_end) {
+    auto& k = *impl_;
+    double* y = N_VGetArrayPointer(k.y);
+    k.prepare(w);
     if (t_end == w.time) return;
     // no stop time: CVODE steps past t_end where its error control allows and interpolates
     // back (CV_NORMAL); the next call continues from its internal state
@@ -193,6 +205,44 @@ void Cvode::advance(World& w, double t_end) {
     // CVODE projects its steps, not the interpolant between them: the output is projected too
     sundials::finish_advance(w, y, y + k.n, flag, t_reached, t_end, k.sys, k.opt.projection, k.last, k.error, "CVODE",
                              CVodeGetReturnFlagName, k.message);
+}
+
+void Cvode::step(World& w, double t_end) {
+    auto& k = *impl_;
+    if (!(t_end > w.time))
+        throw std::invalid_argument("Cvode::step: t_end " + std::to_string(t_end) + " is not after the world's time " +
+                                    std::to_string(w.time));
+    double* y = N_VGetArrayPointer(k.y);
+    k.prepare(w);
+    k.error = nullptr;
+    k.message.clear();
+    int flag = CV_SUCCESS;
+    double tn = w.time, t_reached = w.time;
+    CVodeGetCurrentTime(k.mem, &tn);
+    // one internal step unless the last one already reaches past the world (its output was
+    // interpolated); CVODE returns a step it took but did not return before taking another
+    while (flag >= 0 && !(tn > w.time)) {
+        flag = CVode(k.mem, t_end, k.y, &t_reached, CV_ONE_STEP);
+        CVodeGetCurrentTime(k.mem, &tn);
+    }
+    const double t_out = std::min(tn, t_end);
+    // the same interpolant CV_NORMAL gives at its output times
+    if (flag >= 0) k.check(CVodeGetDky(k.mem, t_out, 0, k.y), "CVodeGetDky");
+    sundials::finish_advance(w, y, y + k.n, flag, t_reached, t_out, k.sys, k.opt.projection, k.last, k.error, "CVODE",
+                             CVodeGetReturnFlagName, k.message);
+}
+
+void Cvode::dense(double t, std::span<double> q, std::span<double> qdot) const {
+    auto& k = *impl_;
+    if (q.size() != k.n || qdot.size() != k.n)
+        throw std::invalid_argument("Cvode::dense: q and qdot must have length " + std::to_string(k.n));
+    if (!k.initialized) throw std::logic_error("Cvode::dense: no step taken yet");
+    k.check(CVodeGetDky(k.mem, t, 0, k.dense_y), "CVodeGetDky");
+    const double* y = N_VGetArrayPointer(k.dense_y);
+    for (std::size_t i = 0; i < k.n; ++i) {
+        q[i] = y[i];
+        qdot[i] = y[k.n + i];
+    }
 }
 
 Cvode::Stats Cvode::stats() const {

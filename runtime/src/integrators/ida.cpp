@@ -148,7 +148,7 @@ struct Ida::Impl {
     Options opt;
     std::size_t n = 0, N = 0; ///< dof and the size of the equations (eq's, kept at hand)
     SUNContext ctx = nullptr;
-    N_Vector yy = nullptr, yp = nullptr, id = nullptr, atol = nullptr;
+    N_Vector yy = nullptr, yp = nullptr, id = nullptr, atol = nullptr, dense_y = nullptr;
     SUNMatrix A = nullptr;
     SUNLinearSolver LS = nullptr;
     void* mem = nullptr;
@@ -189,11 +189,16 @@ struct Ida::Impl {
 
     static void check(int flag, const char* what) { sundials::check_setup(flag, "IDA", what, IDAGetReturnFlagName); }
 
+    /// Continues from w when it is where the last call left the state, else (re)starts there
+    /// from consistent values.
+    void prepare(const World& w);
+
     ~Impl() {
         if (mem) IDAFree(&mem);
         if (LS) SUNLinSolFree(LS);
         if (A) SUNMatDestroy(A);
         if (atol) N_VDestroy(atol);
+        if (dense_y) N_VDestroy(dense_y);
         if (id) N_VDestroy(id);
         if (yp) N_VDestroy(yp);
         if (yy) N_VDestroy(yy);
@@ -218,10 +223,11 @@ Ida::Ida(LagrangianSystem system, Options options) {
     k.yp = N_VNew_Serial(N, k.ctx);
     k.id = N_VNew_Serial(N, k.ctx);
     k.atol = N_VNew_Serial(N, k.ctx);
+    k.dense_y = N_VNew_Serial(N, k.ctx);
     k.A = SUNDenseMatrix(N, N, k.ctx);
     k.LS = k.yy && k.A ? SUNLinSol_Dense(k.yy, k.A, k.ctx) : nullptr;
     k.mem = IDACreate(k.ctx);
-    if (!k.yy || !k.yp || !k.id || !k.atol || !k.A || !k.LS || !k.mem) throw std::runtime_error("Ida: out of memory");
+    if (!k.yy || !k.yp || !k.id || !k.atol || !k.dense_y || !k.A || !k.LS || !k.mem) throw std::runtime_error("Ida: out of memory");
     for (N_Vector v : {k.yy, k.yp}) sundials::use_fast_serial_ops(v); // IDA's vectors are clones of yy
     // q and p are differential and carry the error test; q', λ, μ are algebraic. The index-2
     // multipliers λ, μ are also left out of the Newton convergence test (an absolute
@@ -239,9 +245,8 @@ Ida::Ida(LagrangianSystem system, Options options) {
 
 Ida::~Ida() = default;
 
-void Ida::advance(World& w, double t_end) {
-    auto& k = *impl_;
-    const double* y = N_VGetArrayPointer(k.yy);
+void Ida::Impl::prepare(const World& w) {
+    auto& k = *this;
     if (!k.last.matches(w, k.n)) {
         // restart from the world (projected onto the constraints), consistent Y and Ẏ
         for (std::size_t i = 0; i < k.n; ++i) {
@@ -264,6 +269,12 @@ void Ida::advance(World& w, double t_end) {
             Impl::check(IDAReInit(k.mem, w.time, k.yy, k.yp), "IDAReInit");
         }
     }
+}
+
+void Ida::advance(World& w, double t_end) {
+    auto& k = *impl_;
+    const double* y = N_VGetArrayPointer(k.yy);
+    k.prepare(w);
     if (t_end == w.time) return;
     double t_reached = w.time;
     k.error = nullptr;
@@ -274,6 +285,47 @@ void Ida::advance(World& w, double t_end) {
     const auto o = k.eq.offsets();
     sundials::finish_advance(w, y + o.q, y + o.v, flag, t_reached, t_end, k.eq.system(), k.opt.projection, k.last,
                              k.error, "IDA", IDAGetReturnFlagName, k.message);
+}
+
+void Ida::step(World& w, double t_end) {
+    auto& k = *impl_;
+    if (!(t_end > w.time))
+        throw std::invalid_argument("Ida::step: t_end " + std::to_string(t_end) + " is not after the world's time " +
+                                    std::to_string(w.time));
+    const double* y = N_VGetArrayPointer(k.yy);
+    k.prepare(w);
+    k.error = nullptr;
+    k.message.clear();
+    int flag = IDA_SUCCESS;
+    double tn = w.time, t_reached = w.time;
+    IDAGetCurrentTime(k.mem, &tn);
+    // one internal step unless the last one already reaches past the world (its output was
+    // interpolated); IDA returns a step it took but did not return before taking another
+    while (flag >= 0 && !(tn > w.time)) {
+        flag = IDASolve(k.mem, t_end, &t_reached, k.yy, k.yp, IDA_ONE_STEP);
+        IDAGetCurrentTime(k.mem, &tn);
+    }
+    const double t_out = std::min(tn, t_end);
+    // past t_end: IDA_NORMAL takes no step and interpolates there, as advance's call does
+    if (flag >= 0 && tn >= t_end) flag = IDASolve(k.mem, t_end, &t_reached, k.yy, k.yp, IDA_NORMAL);
+    else if (flag >= 0) Impl::check(IDAGetDky(k.mem, tn, 0, k.yy), "IDAGetDky");
+    const auto o = k.eq.offsets();
+    sundials::finish_advance(w, y + o.q, y + o.v, flag, t_reached, t_out, k.eq.system(), k.opt.projection, k.last,
+                             k.error, "IDA", IDAGetReturnFlagName, k.message);
+}
+
+void Ida::dense(double t, std::span<double> q, std::span<double> qdot) const {
+    auto& k = *impl_;
+    if (q.size() != k.n || qdot.size() != k.n)
+        throw std::invalid_argument("Ida::dense: q and qdot must have length " + std::to_string(k.n));
+    if (!k.initialized) throw std::logic_error("Ida::dense: no step taken yet");
+    Impl::check(IDAGetDky(k.mem, t, 0, k.dense_y), "IDAGetDky");
+    const double* y = N_VGetArrayPointer(k.dense_y);
+    const auto o = k.eq.offsets();
+    for (std::size_t i = 0; i < k.n; ++i) {
+        q[i] = y[o.q + i];
+        qdot[i] = y[o.v + i];
+    }
 }
 
 Ida::Stats Ida::stats() const {

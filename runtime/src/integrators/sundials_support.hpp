@@ -5,7 +5,10 @@
 #include "phynjo/runtime/models/constraint_projection.hpp"
 #include "phynjo/runtime/models/lagrangian_system.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <exception>
 #include <memory>
 #include <stdexcept>
@@ -34,9 +37,12 @@ struct LastState {
     double time = 0;
     std::vector<double> y; ///< (q, q')
 
-    /// True when `w` is exactly where the solver left it (the history may continue).
+    /// True when `w` is where the solver left it (the history may continue): the same state,
+    /// bit for bit, at the same time to a few ulps (a Stepper sets its time to t₀ + k·dt,
+    /// where the solver's rule reached t + dt).
     [[nodiscard]] bool matches(const World& w, std::size_t n) const {
-        bool same = valid && w.time == time;
+        bool same = valid && std::fabs(w.time - time) <= 4 * std::numeric_limits<double>::epsilon() *
+                                                              std::max(1.0, std::fabs(time));
         for (std::size_t i = 0; i < n && same; ++i)
             same = w.at(kGQ, static_cast<Index>(i)) == y[i] && w.at(kGV, static_cast<Index>(i)) == y[n + i];
         return same;

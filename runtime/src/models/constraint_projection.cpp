@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <string>
 #include <vector>
 
 namespace phynjo::runtime {
@@ -173,6 +175,26 @@ void project_positions(const LagrangianSystem& s, double t, std::span<double> q,
     G.assign(m * n, 0.0);
     phi.assign(m, 0.0);
     r.assign(mh, 0.0);
+    // the constraint furthest from holding when the iterates stall: when it is far (more
+    // than 1e-6 of its scale, or of 1), the projection cannot reach it — say so, with φ
+    auto stalled = [&](const std::string& why) {
+        std::size_t worst = m;
+        double worst_scaled = 0;
+        for (std::size_t k = 0; k < m; ++k) {
+            if (!s.constraint_holonomic[k]) continue;
+            const double scaled = std::fabs(phi[k]) / std::max(sc[k], 1.0);
+            if (worst == m || scaled > worst_scaled) worst = k, worst_scaled = scaled;
+        }
+        if (worst == m || !(worst_scaled > 1e-6)) return;
+        char buf[200];
+        std::snprintf(buf, sizeof buf, "%.6g", phi[worst]);
+        throw UnreachableConstraint("constraint projection at t = " + std::to_string(t) + ": constraint '" +
+                                        s.constraint_names[worst] + "' cannot be reached: its residual stays at " + buf +
+                                        " (" + why +
+                                        "); no state near this one satisfies it, and at these parameters perhaps "
+                                        "none does",
+                                    s.constraint_names[worst], phi[worst]);
+    };
     for (int it = 0; it <= options.max_iterations; ++it) {
         s.constraint_matrix(t, q, G);
         s.constraint_residuals(t, q, qdot, phi);
@@ -189,9 +211,18 @@ void project_positions(const LagrangianSystem& s, double t, std::span<double> q,
         }
         if (ok) return;
         if (it == options.max_iterations) break;
-        detail::solve_gram(s, G, true, r, t);
+        try {
+            detail::solve_gram(s, G, true, r, t);
+        } catch (const SingularConstraints&) {
+            // singular where the projection started: the state given is a singular point (the
+            // bob at the pivot), as solve_gram says; reached by the iterates: they were drawn
+            // to a minimum of the residual away from zero
+            if (it > 0) stalled("Gauss-Newton reached a point where the constraints' gradients are dependent or vanish");
+            throw;
+        }
         detail::add_constraint_directions(s, G, true, r, q);
     }
+    stalled("Gauss-Newton did not converge in " + std::to_string(options.max_iterations) + " iterations");
     throw ConvergenceError("constraint projection did not converge at t = " + std::to_string(t) + " in " +
                            std::to_string(options.max_iterations) + " Gauss-Newton iterations");
 }

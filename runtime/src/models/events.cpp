@@ -4,6 +4,8 @@
 #include "phynjo/runtime/models/crossing.hpp"
 
 #include <algorithm>
+#include <bit>
+#include <cstdint>
 #include <cmath>
 #include <cstdio>
 #include <optional>
@@ -31,7 +33,7 @@ EventMonitor::EventMonitor(LagrangianSystem system, EventOptions options) : sys_
     if (opt_.zeno_run < 3) throw std::invalid_argument("EventMonitor: zeno_run must be at least 3");
     if (!(opt_.rest_speed >= 0)) throw std::invalid_argument("EventMonitor: rest_speed must not be negative");
     for (auto* v : {&q0_, &v0_, &a0_, &a1_, &qe_, &ve_, &qk_, &vk_, &qp_, &vp_, &ap_, &held_q_}) v->assign(n_, 0.0);
-    for (auto* v : {&g_, &g_left_, &arm_time_}) v->assign(ne_, 0.0);
+    for (auto* v : {&g_, &g_end_, &g_left_, &arm_time_}) v->assign(ne_, 0.0);
     for (auto* v : {&armed_, &resting_, &fired_}) v->assign(ne_, 0);
     held_by_.assign(n_, ne_);
     for (std::size_t k = 0; k < ne_; ++k) side_sign_.push_back(sys_.event_directions[k] < 0 ? 1.0 : -1.0);
@@ -104,74 +106,112 @@ EventStep EventMonitor::end_step_impl(World& w, const Extension* extension, std:
         if (extension) (*extension)(t, q, v);
         else hermite->at(t, q, v);
     };
-    double te = t1, bracket = opt_.time_tolerance;
-    for (std::size_t k = 0; k < ne_; ++k) {
-        if (!armed_[k] || resting_[k] || armed_side(k, g_[k])) continue;
-        auto guard = [&](double t) {
-            arc_at(t, qe_, ve_);
-            sys_.event_guards(t, qe_, ve_, g_left_);
-            return g_left_[k];
-        };
-        const double left = std::min(std::max(arm_time_[k], t0_), t1);
-        double gl = guard(left);
-        if (!armed_side(k, gl) || left >= t1) {
-            // the arc disagrees with what armed it (within its error): the crossing is at left
-            if (left < te) te = left;
-            continue;
-        }
-        const Crossing c = locate_crossing(guard, left, t1, gl, g_[k], opt_.time_tolerance);
-        if (c.time < te) {
-            te = c.time;
-            bracket = std::max(c.hi - c.lo, opt_.time_tolerance);
-        }
-    }
-    // the state at t_e, and who fires: every armed event across there
-    arc_at(te, qe_, ve_);
-    sys_.event_guards(te, qe_, ve_, g_);
-    bool stop = false, fired_any = false;
-    for (std::size_t k = 0; k < ne_; ++k) {
-        fired_[k] = armed_[k] && !resting_[k] && !armed_side(k, g_[k]);
-        fired_any = fired_any || fired_[k];
-        if (fired_[k] && sys_.event_stops[k]) stop = true;
-    }
-    if (!fired_any) return out; // cannot happen: the earliest crossing is across at its own time
-    out.fired = true;
-    out.moved = true;
-    std::copy(qe_.begin(), qe_.end(), qp_.begin());
-    std::copy(ve_.begin(), ve_.end(), vp_.begin());
-    if (!stop) {
+    // the guards at t1 (g_ is reused at the event times)
+    std::copy(g_.begin(), g_.end(), g_end_.begin());
+    double from = t0_; // crossings are looked for after this: t0_, or the last event that changed nothing
+    for (;;) {
+        double te = t1, bracket = opt_.time_tolerance;
         for (std::size_t k = 0; k < ne_; ++k) {
-            if (!fired_[k]) continue;
-            std::copy(qe_.begin(), qe_.end(), qk_.begin());
-            std::copy(ve_.begin(), ve_.end(), vk_.begin());
-            sys_.apply_event(k, te, qk_, vk_);
-            for (std::size_t i = 0; i < n_; ++i) {
-                if (qk_[i] != qe_[i]) qp_[i] = qk_[i];
-                if (vk_[i] != ve_[i]) {
-                    vp_[i] = vk_[i];
-                    if (opt_.rest_speed > 0 && std::fabs(vp_[i]) < opt_.rest_speed) {
-                        vp_[i] = 0;
-                        resting_count_ += resting_[k] ? 0 : 1;
-                        resting_[k] = 1;
-                        held_by_[i] = k;
+            if (!armed_[k] || resting_[k] || armed_side(k, g_end_[k])) continue;
+            auto guard = [&](double t) {
+                arc_at(t, qe_, ve_);
+                sys_.event_guards(t, qe_, ve_, g_left_);
+                return g_left_[k];
+            };
+            const double left = std::min(std::max(arm_time_[k], from), t1);
+            double gl = guard(left);
+            if (!armed_side(k, gl) || left >= t1) {
+                // the arc disagrees with what armed it (within its error): the crossing is at left
+                if (left < te) te = left;
+                continue;
+            }
+            const Crossing c = locate_crossing(guard, left, t1, gl, g_end_[k], opt_.time_tolerance);
+            if (c.time < te) {
+                te = c.time;
+                bracket = std::max(c.hi - c.lo, opt_.time_tolerance);
+            }
+        }
+        // the state at t_e, and who fires: every armed event across there
+        arc_at(te, qe_, ve_);
+        sys_.event_guards(te, qe_, ve_, g_);
+        bool stop = false, fired_any = false;
+        for (std::size_t k = 0; k < ne_; ++k) {
+            fired_[k] = armed_[k] && !resting_[k] && !armed_side(k, g_[k]);
+            fired_any = fired_any || fired_[k];
+            if (fired_[k] && sys_.event_stops[k]) stop = true;
+        }
+        if (!fired_any) return out; // cannot happen: the earliest crossing is across at its own time
+        std::copy(qe_.begin(), qe_.end(), qp_.begin());
+        std::copy(ve_.begin(), ve_.end(), vp_.begin());
+        bool changed = stop;
+        if (!stop) {
+            for (std::size_t k = 0; k < ne_; ++k) {
+                if (!fired_[k]) continue;
+                std::copy(qe_.begin(), qe_.end(), qk_.begin());
+                std::copy(ve_.begin(), ve_.end(), vk_.begin());
+                sys_.apply_event(k, te, qk_, vk_);
+                for (std::size_t i = 0; i < n_; ++i) {
+                    if (qk_[i] != qe_[i]) qp_[i] = qk_[i];
+                    if (vk_[i] != ve_[i]) {
+                        vp_[i] = vk_[i];
+                        if (opt_.rest_speed > 0 && std::fabs(vp_[i]) < opt_.rest_speed) {
+                            vp_[i] = 0;
+                            resting_count_ += resting_[k] ? 0 : 1;
+                            resting_[k] = 1;
+                            held_by_[i] = k;
+                            changed = true;
+                        }
                     }
                 }
             }
+            for (std::size_t i = 0; i < n_ && !changed; ++i)
+                changed = std::bit_cast<std::uint64_t>(qp_[i]) != std::bit_cast<std::uint64_t>(qe_[i]) ||
+                          std::bit_cast<std::uint64_t>(vp_[i]) != std::bit_cast<std::uint64_t>(ve_[i]);
+            for (std::size_t i = 0; i < n_; ++i)
+                if (held_by_[i] < ne_) held_q_[i] = qp_[i];
         }
-        for (std::size_t i = 0; i < n_; ++i)
-            if (held_by_[i] < ne_) held_q_[i] = qp_[i];
-    }
-    w.time = te;
-    std::copy(qp_.begin(), qp_.end(), q1.begin());
-    std::copy(vp_.begin(), vp_.end(), v1.begin());
-    for (std::size_t k = 0; k < ne_; ++k)
-        if (fired_[k]) log_.push_back({te, k, qp_, vp_});
-    if (stop) {
-        stopped_ = true;
-        out.stopped = true;
+        for (std::size_t k = 0; k < ne_; ++k)
+            if (fired_[k]) log_.push_back({te, k, qp_, vp_});
+        if (!changed) {
+            // Actions that change nothing (an observing event, `x' = x'`): logged at t_e, the
+            // world left where the integrator put it — the run is the one without the event,
+            // bit for bit — and the rest of the step searched again from t_e.
+            out.observed = true;
+            rearm_after(te, bracket, t1, arc_at);
+            std::copy(g_end_.begin(), g_end_.end(), g_.begin());
+            from = te;
+            if (!rearm(g_.data(), t1)) return out;
+            continue;
+        }
+        out.fired = true;
+        out.moved = true;
+        w.time = te;
+        std::copy(qp_.begin(), qp_.end(), q1.begin());
+        std::copy(vp_.begin(), vp_.end(), v1.begin());
+        if (stop) {
+            stopped_ = true;
+            out.stopped = true;
+            return out;
+        }
+        // a fired event re-arms just after t_e on the Taylor arc of the new state
+        bool accelerations = false;
+        rearm_after(te, bracket, t1, [&](double t, std::span<double> q, std::span<double> v) {
+            if (!accelerations) sys_.accelerations(te, qp_, vp_, ap_);
+            accelerations = true;
+            const double d = t - te;
+            for (std::size_t i = 0; i < n_; ++i) {
+                q[i] = qp_[i] + d * (vp_[i] + 0.5 * d * ap_[i]);
+                v[i] = vp_[i] + d * ap_[i];
+            }
+        });
         return out;
     }
-    // re-arming: every guard at the new state; a fired one also just after t_e on the Taylor arc
+}
+
+template <typename Arc>
+void EventMonitor::rearm_after(double te, double bracket, double t1, Arc&& arc) {
+    // every guard at the state after the event (qp_, vp_); a fired one is also looked at just
+    // after t_e, on `arc`, from a few times the crossing bracket up to the step's end
     sys_.event_guards(te, qp_, vp_, g_);
     bool probe = false;
     for (std::size_t k = 0; k < ne_; ++k) {
@@ -184,12 +224,8 @@ EventStep EventMonitor::end_step_impl(World& w, const Extension* extension, std:
         probe = probe || (fired_[k] && !armed_[k]);
     }
     if (probe && t1 > te) {
-        sys_.accelerations(te, qp_, vp_, ap_);
         for (double d = 4 * bracket; d <= t1 - te; d *= 2) {
-            for (std::size_t i = 0; i < n_; ++i) {
-                qk_[i] = qp_[i] + d * (vp_[i] + 0.5 * d * ap_[i]);
-                vk_[i] = vp_[i] + d * ap_[i];
-            }
+            arc(te + d, qk_, vk_);
             sys_.event_guards(te + d, qk_, vk_, g_left_);
             bool pending = false;
             for (std::size_t k = 0; k < ne_; ++k) {
@@ -207,7 +243,6 @@ EventStep EventMonitor::end_step_impl(World& w, const Extension* extension, std:
             ++events_this_run_step_;
             check_zeno(k, te);
         }
-    return out;
 }
 
 std::vector<Index> add_event_flags(Registry& flags, const LagrangianSystem& system, std::string_view prefix) {

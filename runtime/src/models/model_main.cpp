@@ -116,7 +116,8 @@ void help(const char* prog, const ModelCommandLine& model, const LagrangianSyste
                 "Under mpirun (phynjo_add_model's simulators, when built with MPI) a sweep is shared\n"
                 "among the ranks, each on --threads N threads; rank 0 writes the summary, the same bytes\n"
                 "for any number of ranks.\n"
-                "Exit status: 0 done, 1 the run stopped (the message says why and when), 2 usage error,\n"
+                "Exit status: 0 done (also when a stop event ended the run), 1 the run failed (the message\n"
+                "says why and when), 2 usage error,\n"
                 "3 energy drift beyond the tolerance (with --fail-on-drift).\n",
                 prog, prog, static_cast<int>(model.model_name.size()), model.model_name.data(), params.empty() ? "(none)" : params.c_str(),
                 coords.c_str(), events.empty() ? "(none)" : events.c_str());
@@ -300,6 +301,11 @@ int model_main(int argc, char** argv, const ModelCommandLine& model, SweepProces
         return run_sweep(sweep, model, argv[0]);
     }
     const LagrangianSystem sys = model.system();
+    if (integrator == "bdf" && sys.n_constraints > 0) {
+        std::fprintf(stderr, "%s: --integrator bdf takes models without constraints; this one has %zu (use cvode or ida)\n",
+                     argv[0], sys.n_constraints);
+        return 2;
+    }
     World w = make_lagrangian_world(sys);
     const std::size_t dof = sys.dof;
     for (const auto& [name, v] : inits) {
@@ -432,8 +438,18 @@ int model_main(int argc, char** argv, const ModelCommandLine& model, SweepProces
             if (rtol) o.rtol = *rtol;
             if (atol) o.atol = *atol;
             Solver solver(sys, o);
-            for (long k = 1; k <= total; ++k)
-                if (!advance([&](double target, double) { solver.advance(w, target); w.time = target; }, k, target_of(k))) break;
+            if (!with_events) {
+                for (long k = 1; k <= total; ++k)
+                    advance([&](double target, double) { solver.advance(w, target); w.time = target; }, k, target_of(k));
+            } else {
+                // watched one internal step at a time; crossings located on the solver's own
+                // interpolating polynomial of each step
+                const EventMonitor::Extension dense = [&](double t, std::span<double> q, std::span<double> v) {
+                    solver.dense(t, q, v);
+                };
+                for (long k = 1; k <= total; ++k)
+                    if (!advance([&](double target, double) { solver.step(w, target); }, k, target_of(k), &dense)) break;
+            }
             const auto st = solver.stats();
             std::fprintf(stderr, "%s: %ld steps, %ld Jacobians, %ld Newton iterations, %ld Newton failures, %ld error-test failures\n",
                          name, st.steps, st.jacobian_evaluations, st.newton_iterations, st.newton_failures, st.error_test_failures);

@@ -27,7 +27,9 @@ struct Linearization {
     std::vector<cas::Expr> state;         ///< y0, exact
     cas::Expr time;                       ///< t0 (0 unless given)
     std::vector<cas::Expr> rate;          ///< y'(y0), exact
+    std::vector<double> rate_values;      ///< y'(y0) at the parameters' defaults
     std::vector<cas::Expr> A, B;          ///< row-major (2·dof)×(2·dof) and (2·dof)×n_inputs
+    std::vector<double> A_values;         ///< A at the parameters' defaults, row-major
     /// Eigenvalues of A at the parameters' defaults, by decreasing real part.
     std::vector<std::complex<double>> eigenvalues;
     /// The parameters' defaults used for the eigenvalues (name, value), file order.

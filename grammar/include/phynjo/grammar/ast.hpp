@@ -70,11 +70,13 @@ struct ProductOp : x3::position_tagged {
     Unary operand;
 };
 
-/// A product, and (v2) the unit of a product of numbers: `9.81 [m/s^2]`, `1/2 [N/m]`.
+/// A product, and (v2) the unit of a product of numbers: `9.81 [m/s^2]`, `1/2 [N/m]`, which
+/// the product may go on after: `0.5 [N]*x` (the unit binds to the numbers before it).
 struct Product : x3::position_tagged {
     Unary first;
     std::vector<ProductOp> rest;
     boost::optional<Unit> unit;
+    std::vector<ProductOp> after; ///< the factors after the unit
 };
 
 /// `+ operand` or `- operand`.

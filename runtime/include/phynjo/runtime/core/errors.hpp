@@ -111,4 +111,21 @@ public:
     using Error::Error;
 };
 
+/// The projection onto a holonomic constraint stalls with its residual away from zero: the
+/// Gauss–Newton iterates reach a point where the constraint's gradient vanishes (a minimum
+/// of |φ|) or stop converging there. No state near the start satisfies the constraint — at
+/// these parameters perhaps none does (x² + y² = −l²). constraint() names it, residual() is
+/// φ where the projection stalled.
+class UnreachableConstraint : public ConvergenceError {
+public:
+    UnreachableConstraint(const std::string& message, std::string constraint, double residual)
+        : ConvergenceError(message), constraint_(std::move(constraint)), residual_(residual) {}
+    [[nodiscard]] const std::string& constraint() const noexcept { return constraint_; }
+    [[nodiscard]] double residual() const noexcept { return residual_; }
+
+private:
+    std::string constraint_;
+    double residual_;
+};
+
 } // namespace phynjo::runtime

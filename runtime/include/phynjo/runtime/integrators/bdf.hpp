@@ -16,6 +16,7 @@
 
 #include <limits>
 #include <memory>
+#include <span>
 
 namespace phynjo::runtime {
 
@@ -51,6 +52,14 @@ public:
     /// t, or max_steps) naming the time reached, or the model's own (SingularMassMatrix, …);
     /// `w` is then the last accepted step, at its time.
     void advance(World& w, double t_end);
+    /// One internal step towards `t_end` > w.time, for a caller that watches each step (the
+    /// event monitor): one step unless the last one already ends past w.time, and `w` set to
+    /// min(its end, t_end) — at t_end the same interpolant, bit for bit, as `advance` gives.
+    /// Continues or restarts as `advance` does; the same errors.
+    void step(World& w, double t_end);
+    /// The interpolating polynomial of the last internal step: (q, q') at t in that step, s.
+    /// Between step() calls it covers the world's last advance.
+    void dense(double t, std::span<double> q, std::span<double> qdot) const;
     [[nodiscard]] Stats stats() const;
 
 private:

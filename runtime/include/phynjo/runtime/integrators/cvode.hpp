@@ -9,6 +9,7 @@
 #include "phynjo/runtime/models/constraint_projection.hpp"
 
 #include <memory>
+#include <span>
 
 namespace phynjo::runtime {
 
@@ -47,6 +48,14 @@ public:
     /// runtime's: ConvergenceError (CVODE's flag and message, and the time reached), or the
     /// model's own (SingularMassMatrix, NonFiniteResult, …); `w` is then at the time reached.
     void advance(World& w, double t_end);
+    /// One internal step towards `t_end` > w.time, for a caller that watches each step (the
+    /// event monitor): CVODE takes one step (CV_ONE_STEP) unless its last one already ends
+    /// past w.time, and `w` is set to min(its end, t_end) — at t_end the same interpolant,
+    /// bit for bit, as `advance` gives. Continues or restarts as `advance` does; the same errors.
+    void step(World& w, double t_end);
+    /// CVODE's interpolating polynomial of its last internal step (CVodeGetDky): (q, q') at t
+    /// in that step, s. Between step() calls it covers the world's last advance.
+    void dense(double t, std::span<double> q, std::span<double> qdot) const;
     [[nodiscard]] Stats stats() const;
 
 private:

@@ -95,6 +95,15 @@ public:
     /// runtime's: ConvergenceError (IDA's flag and message, and the time reached), or the
     /// model's own (SingularMassMatrix, SingularConstraints, …); `w` is then at the time reached.
     void advance(World& w, double t_end);
+    /// One internal step towards `t_end` > w.time, for a caller that watches each step (the
+    /// event monitor): IDA takes one step (IDA_ONE_STEP) unless its last one already ends
+    /// past w.time, and `w` is set to min(its end, t_end) — at t_end the same interpolant,
+    /// bit for bit, as `advance` gives. Continues or restarts as `advance` does; the same errors.
+    void step(World& w, double t_end);
+    /// IDA's interpolating polynomial of its last internal step (IDAGetDky): (q, q') at t in
+    /// that step, s (not projected onto the constraints). Between step() calls it covers the
+    /// world's last advance.
+    void dense(double t, std::span<double> q, std::span<double> qdot) const;
     [[nodiscard]] Stats stats() const;
 
 private:

@@ -9,19 +9,24 @@
 /// - **Crossing.** Event k fires when its guard g_k passes from its *armed side* (g > 0 for
 ///   `A < B`, g < 0 for `A > B`) to the other side (or onto 0). After each step the guards
 ///   are evaluated at its end; an armed guard that is no longer on its armed side has
-///   crossed. Where: on the integrator's continuous extension — Dormand–Prince's dense
-///   output, or for the others the cubic Hermite arc of the step (HermiteStep, from the
-///   states and accelerations at both ends: O(h⁴), the order of RK4; for CVODE and IDA the
-///   step is the run's, between two of their interpolated outputs) — by the Illinois root
-///   finder (locate_crossing) to
-///   `time_tolerance`. The event time is the first time known to be across (so the guard is
-///   across after the event), never the end of the step. A guard that crosses and crosses
-///   back within one step is not seen (as in every integrator that checks signs at steps).
+///   crossed. Where: on the integrator's continuous extension of the step — Dormand–Prince's
+///   dense output; CVODE's, IDA's and Bdf's interpolating polynomials of their own internal
+///   steps (the run then advances them one internal step at a time: Cvode::step, Ida::step,
+///   Bdf::step); for the fixed-step integrators the cubic Hermite arc of the step
+///   (HermiteStep, from the states and accelerations at both ends: O(h⁴), the order of
+///   RK4) — by the Illinois root finder (locate_crossing) to `time_tolerance`. The event
+///   time is the first time known to be across (so the guard is across after the event),
+///   never the end of the step. A guard that crosses and crosses back within one step is
+///   not seen (as in every integrator that checks signs at steps).
 /// - **Simultaneous events.** The earliest crossing sets the event time t_e; every armed
 ///   event whose guard is across at t_e fires with it. Each one's right sides are evaluated
 ///   on the state before the event (as the spec says of one event's actions); a coordinate or
 ///   velocity reset by two of them takes the value of the later one in file order. If one of
 ///   them is `stop`, nothing is reset: the run ends at t_e with the state there.
+/// - **Actions that change nothing** (an observing event, `x' = x'`): the event is logged
+///   at t_e with the state there, but the world stays where the integrator left it and the
+///   rest of the step is searched again from t_e: the run is the run without the event, bit
+///   for bit (a multistep solver keeps its history).
 /// - **Re-arming.** After its actions an event is disarmed until its guard is back on its
 ///   armed side; the monitor looks for that just after t_e — on the Taylor arc
 ///   q + v·δ + a·δ²/2 for δ from a few times the crossing bracket up to the rest of the step
@@ -73,6 +78,7 @@ struct EventStep {
     bool fired = false;   ///< the world was moved back to the event time, after the actions
     bool stopped = false; ///< a `stop` event fired: the run ends here
     bool moved = false;   ///< w's state is no longer the one the integrator left (an event, or a resting event's hold)
+    bool observed = false; ///< an event fired whose actions changed nothing: logged, w left where it was
 };
 
 /// Watches the events of one run. Use: for each step of the run, `begin_run_step(dt)`; then
@@ -153,6 +159,11 @@ private:
     void check_zeno(std::size_t k, double t);
     void arm_first();
     [[noreturn]] void wrong_sizes(std::size_t g, std::size_t a0, std::size_t a1) const;
+    /// After events fired at te (fired_) with the state qp_, vp_ after them: re-arms every
+    /// event on its armed side there, probes a fired one on `arc` (t, q, v) just after te up
+    /// to t1, and counts the firings for the Zeno tests.
+    template <typename Arc>
+    void rearm_after(double te, double bracket, double t1, Arc&& arc);
     EventStep end_step_impl(World& w, const Extension* extension, std::span<const double> g1, std::span<const double> a0,
                             std::span<const double> a1);
 
@@ -164,7 +175,7 @@ private:
     std::size_t events_this_run_step_ = 0;
     std::size_t resting_count_ = 0; ///< events resting now
     std::vector<double> side_sign_;  ///< per event: +1 when its armed side is g > 0, else −1 (event_directions)
-    std::vector<double> q0_, v0_, a0_, a1_, g_, g_left_, qe_, ve_, qk_, vk_, qp_, vp_, ap_;
+    std::vector<double> q0_, v0_, a0_, a1_, g_, g_end_, g_left_, qe_, ve_, qk_, vk_, qp_, vp_, ap_;
     std::vector<unsigned char> armed_, resting_, fired_;
     std::vector<std::size_t> held_by_; ///< per coordinate: the resting event holding it, or ne_
     std::vector<double> arm_time_, held_q_;
