@@ -24,7 +24,7 @@ std::string emit_latex(const Model& m, const EquationsOfMotion& eom) {
                     "\n\\documentclass{article}\n\\usepackage{amsmath}\n\\usepackage[margin=2cm]{geometry}\n"
                     "\\allowdisplaybreaks\n\\begin{document}\n\\section*{" +
                     m.name + "}\n";
-    // the coordinates and parameters, with their units (lag-format.md, *Units*)
+    // the coordinates and parameters, with their units (docs/language.md, *Units*)
     auto unit = [](const std::string& u) {
         if (u.empty()) return std::string();
         std::string out; // kg*m^2/s^2 -> \mathrm{kg\,m^{2}/s^{2}}
@@ -66,8 +66,11 @@ std::string emit_latex(const Model& m, const EquationsOfMotion& eom) {
         s += ") \\]\n";
         for (std::size_t k = 0; k < mc; ++k) {
             const auto row = std::to_string(k + 1);
-            s += "\\[ \\phi_{" + row + "} = " + cas::to_latex(detail::readable(eom.residuals[k])) + " = 0 \\quad\\text{(" +
-                 escape(m.constraints[k].name) + (m.constraints[k].holonomic ? ", holonomic" : ", nonholonomic") + ")} \\]\n";
+            // φ named like its multiplier, λ_rod, φ_rod: a row number would read as a
+            // coordinate's (`ph1` prints φ₁)
+            s += "\\[ \\phi_{\\mathrm{" + escape(m.constraints[k].name) + "}} = " +
+                 cas::to_latex(detail::readable(eom.residuals[k])) + " = 0 \\quad\\text{(" +
+                 (m.constraints[k].holonomic ? "holonomic" : "nonholonomic") + ", row " + row + " of } G\\text{)} \\]\n";
             for (std::size_t j = 0; j < n; ++j)
                 s += "\\[ G_{" + row + std::to_string(j + 1) + "} = " +
                      cas::to_latex(detail::readable(eom.constraint_matrix[k * n + j])) + " \\]\n";

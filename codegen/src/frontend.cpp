@@ -6,6 +6,7 @@
 #include "units.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <array>
 #include <map>
@@ -92,6 +93,13 @@ private:
         }
         dims_[name] = *d;
         return d->any || d->dimensionless() ? std::string() : units::to_string(*d);
+    }
+    /// A unit's text as the file writes it, without its blanks (`N / m` → "N/m").
+    static std::string as_written(const grammar::ast::Unit& u) {
+        std::string out;
+        for (char c : u.text)
+            if (!std::isspace(static_cast<unsigned char>(c))) out += c;
+        return out;
     }
     /// Checks that every term of a sum has dimension `expected`.
     void check_terms(const grammar::ast::Expression& e, const units::Dim& expected, const std::string& what) {
@@ -239,7 +247,10 @@ private:
             const Expr sym = cas::symbol(n.text);
             if (declare(n, NameKind::Coordinate, sym)) {
                 model_.coordinates.push_back({n.text, sym, span(n), {}});
-                if (units_) model_.coordinates.back().unit = record_dim(n.text, decl.unit ? units_->of(*decl.unit) : units::Dim{});
+                if (units_) {
+                    model_.coordinates.back().unit = record_dim(n.text, decl.unit ? units_->of(*decl.unit) : units::Dim{});
+                    if (decl.unit && !dims_.at(n.text).any) model_.coordinates.back().unit = as_written(*decl.unit);
+                }
             }
         }
         forces_.assign(model_.coordinates.size(), Expr{});
@@ -296,7 +307,13 @@ private:
             const bool derived = !input && !cas::free_symbols(*v).empty();
             if (declare(b.name, NameKind::Parameter, sym)) {
                 model_.parameters.push_back({b.name.text, sym, exact, dflt, span(b.name), derived ? *v : Expr{}, input, {}});
-                if (units_) model_.parameters.back().unit = record_dim(b.name.text, dim(b.value));
+                if (units_) {
+                    model_.parameters.back().unit = record_dim(b.name.text, dim(b.value));
+                    // a value that is one quantity (`k = 1/2 [N/m]`) keeps its unit as written
+                    const auto& top = b.value;
+                    if (top.rest.empty() && top.first.unit && top.first.after.empty() && !dims_.at(b.name.text).any)
+                        model_.parameters.back().unit = as_written(*top.first.unit);
+                }
             }
         }
     }

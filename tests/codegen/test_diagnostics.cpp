@@ -265,3 +265,34 @@ TEST_CASE("lag diagnostics: units and dimensions", "[codegen][diagnostics][units
                                                "lagrangian 1/2*m*x'^2 - 1/2 [N/m]*x^2\nforce x = -0.1 [N*s/m]*x'\n");
     CHECK(phynjo::cas::simplify(c.eom.forcing[0] - phynjo::grammar::parse("-x - 1/10*x'")).is_zero());
 }
+
+// Bugs caught: a unit's negative exponent read with the wrong sign (`s^-2` as s²), `a/b/c` read
+// as a/(b/c), a derived unit with a wrong definition, blanks inside a unit not skipped. The
+// oracle: each unit form the docs allow, as a parameter standing alone as a term of L, is
+// reported with its dimension in SI base units (kg m s A K mol cd, in that order; a derived
+// unit's name first when one has that dimension), written out by hand here from the SI
+// definitions (N = kg·m/s², Pa = N/m², J = N·m, W = J/s, C = A·s, V = W/A, T = V·s/m², Hz = 1/s).
+TEST_CASE("lag diagnostics: every unit form against its SI dimension", "[codegen][diagnostics][units]") {
+    const char* forms[][2] = {
+        {"m*s^-2", "m/s^2"},          {"s^-2", "1/s^2"},           {"m*s^-1", "m/s"},
+        {"kg*m^-3", "kg/m^3"},        {"m/s/s", "m/s^2"},          {"1/s", "Hz = 1/s"},
+        {"kg * m ^ 2", "kg*m^2"},     {"N/m", "kg/s^2"},           {"N*s/m", "kg/s"},
+        {"Hz", "Hz = 1/s"},           {"N", "N = kg*m/s^2"},       {"Pa", "Pa = kg/(m*s^2)"},
+        {"W", "W = kg*m^2/s^3"},      {"C", "C = s*A"},            {"V", "V = kg*m^2/(s^3*A)"},
+        {"T", "T = kg/(s^2*A)"},      {"mol*K^-1", "mol/K"},       {"cd", "cd"},
+        {"kg^-1*m^-2*s^2", "s^2/(kg*m^2)"}, {"rad/s", "Hz = 1/s"},
+    };
+    for (const auto& [unit, dim] : forms) {
+        const std::string text = std::string("coordinates x [m]\nparameters p = 3 [") + unit +
+                                 "]\nlagrangian 1/2*1 [kg]*x'^2 + p\n";
+        const std::string got = diagnose(text);
+        INFO(unit << ": " << got);
+        CHECK(got.find(std::string("expected J = kg*m^2/s^2, found ") + dim + "\n") != std::string::npos);
+    }
+    // the energies, however written, are accepted
+    for (const char* unit : {"J", "N*m", "W*s", "Pa*m^3", "kg*m^2*s^-2", "kg*m^2/s/s", "V*A*s", "C*V"}) {
+        INFO(unit);
+        CHECK(diagnose(std::string("coordinates x [m]\nparameters p = 3 [") + unit +
+                       "]\nlagrangian 1/2*1 [kg]*x'^2 + p\n") == "(accepted)");
+    }
+}

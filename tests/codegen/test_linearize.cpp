@@ -198,3 +198,31 @@ TEST_CASE("linearization: the bead on a turning hoop off the axis, an equilibriu
     INFO(t3);
     CHECK(t3.find("= (0, 3.11139) at the parameters' defaults: not an equilibrium") != std::string::npos);
 }
+
+// Bug caught: a wrong Gauss–Jordan elimination, the path above 8 unknowns (a row operation
+// on the wrong rows, a pivot row swapped in K but not in R, the back substitution skipped):
+// every other linearized model has at most 5 unknowns and takes the adjugate. The Cartesian
+// triple pendulum has 6 coordinates and 3 constraints: 9 unknowns, and the saddle-point matrix
+// has a zero block, so the pivots must be chosen. The oracle: central differences of the
+// accelerations from M, f, G, γ solved by Eigen's LU. The state is on the constraints with
+// rational values (links along (3, −4)/5, (4, −3)/5, (0, −1), turning at 1/2, −1, 2 rad/s).
+TEST_CASE("linearization above 8 unknowns (Gauss-Jordan) = central differences: Cartesian triple pendulum",
+          "[codegen][linearize]") {
+    const Compiled c = compile("coordinates x1, y1, x2, y2, x3, y3\nparameters m = 1, l = 1, g = 9.81\n"
+                               "lagrangian 1/2*m*(x1'^2 + y1'^2 + x2'^2 + y2'^2 + x3'^2 + y3'^2) - m*g*(y1 + y2 + y3)\n"
+                               "constraint rod1: x1^2 + y1^2 = l^2\n"
+                               "constraint rod2: (x2 - x1)^2 + (y2 - y1)^2 = l^2\n"
+                               "constraint rod3: (x3 - x2)^2 + (y3 - y2)^2 = l^2\n");
+    REQUIRE(c.eom.dof + c.eom.n_constraints == 9);
+    const auto lin = at(c, {{"x1", "3/5"}, {"y1", "-4/5"}, {"x2", "7/5"}, {"y2", "-7/5"}, {"x3", "7/5"}, {"y3", "-12/5"},
+                            {"x1'", "2/5"}, {"y1'", "3/10"}, {"x2'", "-1/5"}, {"y2'", "-1/2"}, {"x3'", "9/5"},
+                            {"y3'", "-1/2"}});
+    CHECK(against_differences(c, lin) < 1e-6);
+    // the rates are the accelerations of the independent solve
+    std::vector<double> y;
+    cas::Bindings<double> defaults;
+    for (const auto& p : c.model.parameters) defaults[p.symbol] = p.default_value;
+    for (Expr s : lin.state) y.push_back(cas::evaluate(s, defaults));
+    const Eigen::VectorXd a = accelerations(c, y);
+    for (std::size_t i = 0; i < 6; ++i) CHECK(lin.rate_values[6 + i] == Approx(a(static_cast<Eigen::Index>(i))).margin(1e-12));
+}

@@ -25,6 +25,16 @@ awk -F, 'NR > 1 && $2 < -1e-9 { bad = 1 } END { exit bad }' "$work/ball.csv" && 
 "$ball" --t-end 6 --rest-speed 0.05 -o "$work/rest.csv" 2>"$work/rest.err"; rc=$?
 [ $rc -eq 0 ] && [ "$(tail -1 "$work/rest.csv" | cut -d, -f1,3)" = "6,0" ] && ok "--rest-speed: at rest at the end" \
   || bad "--rest-speed: exit $rc, $(tail -1 "$work/rest.csv")"
+# which impact brings it to rest, and when (closed form): the speed after impact n is
+# e^n v0, v0 = sqrt(2 g h) = 4.42945 m/s; the first n with e^n v0 < 0.05 is 21 (0.8^20 v0 =
+# 0.0511 is still above); impact n comes at t1 + (2 v0/g) (e + ... + e^(n-1)), t1 = sqrt(2h/g)
+"$ball" --t-end 6 --rest-speed 0.05 --events "$work/rest_ev.csv" -o /dev/null 2>/dev/null
+read -r n t_last v_last v_before < <(awk -F, 'NR > 1 { n++; prev = v; v = $4; t = $1 } END { print n, t, v, prev }' "$work/rest_ev.csv")
+want_t=$(awk 'BEGIN { g = 9.81; e = 0.8; v0 = sqrt(2 * g); t = sqrt(2 / g); for (k = 1; k < 21; k++) t += 2 * v0 * e^k / g; printf "%.12f", t }')
+[ "$n" = 21 ] && awk -v a="$t_last" -v b="$want_t" 'BEGIN { d = a - b; exit !(d < 1e-9 && d > -1e-9) }' \
+  && [ "$v_last" = 0 ] && awk -v v="$v_before" 'BEGIN { exit !(v > 0.0510 && v < 0.0512) }' \
+  && ok "--rest-speed 0.05: at rest at impact 21, t = $want_t (closed form), after 0.8^20 v0 = 0.0511" \
+  || bad "--rest-speed 0.05: $n impacts, the last at $t_last (closed form: 21 at $want_t), speeds $v_before then $v_last"
 for bad in "--rest-speed 0" "--rest-speed -1" "--max-events-per-step 0" "--max-events-per-step x" "--events"; do
   "$ball" $bad --t-end 0.01 >/dev/null 2>&1; rc=$?
   [ $rc -eq 2 ] && ok "usage error: $bad" || bad "usage error: $bad (exit $rc)"

@@ -68,6 +68,16 @@ for m in bouncing_ball impact_oscillator; do
     && cmp -s "$work/units/$m.cpp" "$work/plain/$m.cpp" && cmp -s "$work/units/$m.hpp" "$work/plain/$m.hpp" \
     && ok "units change no generated code ($m)" || bad "units change the generated code ($m)"
 done
-"$lagc" "$models/impact_oscillator.lag" --emit=latex | grep -q 'k = 1\\;\\mathrm{kg/s^{2}}' && ok "--emit=latex: the units of parameters" \
-  || bad "--emit=latex units"
+# units as written (N/m, not kg/s^2); a parameter computed from others in base units
+"$lagc" "$models/impact_oscillator.lag" --emit=latex > "$work/io.tex"
+grep -q 'k = 1\\;\\mathrm{N/m}' "$work/io.tex" && grep -q 'c = \\frac{1}{10}\\;\\mathrm{kg/s}' "$work/io.tex" \
+  && ok "--emit=latex: the units of parameters as written" || bad "--emit=latex units: $(grep -E '^\\\[ (k|c) =' "$work/io.tex")"
+printf 'coordinates x [m]\nparameters m = 2 [kg], k = 8 [N/m], w = sqrt(k/m)\nlagrangian 1/2*m*x'"'"'^2 - 1/2*k*x^2\n' > "$work/u.lag"
+"$lagc" "$work/u.lag" --emit=latex | grep -q 'w = .*\\;\\mathrm{1/s}\|w = .*\\;\\mathrm{s^{-1}}' \
+  && ok "--emit=latex: a derived parameter's unit from its dimension" || bad "--emit=latex derived unit: $("$lagc" "$work/u.lag" --emit=latex | grep 'w =')"
+# a constraint's phi named like its multiplier: a coordinate ph1 prints phi_1 too
+printf 'coordinates ph1, y\nparameters l = 1\nlagrangian 1/2*(ph1'"'"'^2 + y'"'"'^2)\nconstraint rod: ph1^2 + y^2 = l^2\n' > "$work/ph.lag"
+"$lagc" "$work/ph.lag" --emit=latex > "$work/ph.tex"
+grep -q '\\phi_{\\mathrm{rod}} = ' "$work/ph.tex" && ! grep -q '\\phi_{1} = ' "$work/ph.tex" \
+  && ok "--emit=latex: the constraint is phi_rod, not phi_1 beside a coordinate ph1" || bad "--emit=latex constraint symbol"
 finish

@@ -19,7 +19,7 @@ struct Coordinate {
     std::string name;
     cas::Expr symbol;
     SourceSpan where;
-    std::string unit; ///< (v2) its dimension, "m" (empty: dimensionless, or a file without units)
+    std::string unit; ///< its unit as written ("m"), else its dimension in base units (empty: none, or a file without units)
 };
 
 struct Parameter {
@@ -36,7 +36,7 @@ struct Parameter {
     /// (v2) Declared by `input`: a parameter meant to change during a run; also listed in
     /// the generated input_names.
     bool input = false;
-    std::string unit; ///< (v2) its dimension, "kg*m^2" (empty: dimensionless, or a file without units)
+    std::string unit; ///< its unit as written ("N/m") when its value is one quantity, else its dimension in base units ("kg*m^2"; empty: none, or a file without units)
 };
 
 /// (v2) `constraint NAME: A = B`: φ = A − B = 0 (lag-format.md, *Constraints*).
