@@ -76,6 +76,55 @@ Expr determinant(const std::vector<Expr>& A, std::size_t stride, const std::vect
     return rec(rec, k == 0 ? 0u : (k >= 32 ? ~0u : (1u << k) - 1), 0);
 }
 
+/// The factors of one product as (base, positive integer power); other factors power 1.
+std::vector<std::pair<Expr, long>> monomial_factors(Expr term) {
+    std::vector<std::pair<Expr, long>> out;
+    auto one = [&](Expr f) {
+        if (f.kind() == cas::Kind::Pow && f.args()[1].is_integer() && f.args()[1].value() > 0 &&
+            f.args()[1].value() < 1000)
+            out.emplace_back(f.args()[0], f.args()[1].value().get_num().get_si());
+        else if (f.kind() != cas::Kind::Number && f.kind() != cas::Kind::Pow)
+            out.emplace_back(f, 1);
+    };
+    if (term.kind() == cas::Kind::Mul)
+        for (Expr f : term.args()) one(f);
+    else one(term);
+    return out;
+}
+
+/// The largest monomial dividing every term of the expanded expression `e` (a sum, or one
+/// product), as (base, power) pairs: what a numerator and a determinant may share.
+std::vector<std::pair<Expr, long>> monomial_content(Expr e) {
+    if (e.kind() != cas::Kind::Add) return monomial_factors(e);
+    const Expr constant = cas::numeric_part(e);
+    if (!constant.is_null() && !constant.is_zero()) return {};
+    std::vector<std::pair<Expr, long>> common;
+    bool first = true;
+    for (Expr term : e.args()) {
+        const auto f = monomial_factors(term);
+        if (first) common = f;
+        else {
+            std::vector<std::pair<Expr, long>> kept;
+            for (const auto& [base, k] : common)
+                for (const auto& [b2, k2] : f)
+                    if (b2 == base) kept.emplace_back(base, std::min(k, k2));
+            common = std::move(kept);
+        }
+        first = false;
+        if (common.empty()) break;
+    }
+    return common;
+}
+
+/// The monomial both contents share, as an expression (1 when none).
+Expr shared_monomial(const std::vector<std::pair<Expr, long>>& a, const std::vector<std::pair<Expr, long>>& b) {
+    std::vector<Expr> factors;
+    for (const auto& [base, k] : a)
+        for (const auto& [b2, k2] : b)
+            if (b2 == base) factors.push_back(cas::pow(base, Expr(std::min(k, k2))));
+    return factors.empty() ? Expr(1) : cas::mul(factors);
+}
+
 /// Largest system solved by the adjugate (Cramer's rule): its results are one expanded
 /// numerator over the expanded determinant, so a monomial determinant cancels (the
 /// cart-pole's g·m/M); above, Gauss–Jordan.
@@ -106,12 +155,21 @@ std::vector<Expr> solve_exact(std::vector<Expr> K, std::vector<Expr> R, std::siz
                 C[i * p + j] = ((i + j) % 2 ? Expr(-1) : Expr(1)) * determinant(K, p, rows, cols);
             }
         const Expr inv = cas::pow(D, Expr(-1));
+        const auto D_content = monomial_content(D);
         std::vector<Expr> X(p * c);
         for (std::size_t j = 0; j < p; ++j) // x_j = Σ_i C_ij r_i / D
             for (std::size_t col = 0; col < c; ++col) {
                 std::vector<Expr> terms;
                 for (std::size_t i = 0; i < p; ++i) terms.push_back(C[i * p + j] * R[i * c + col]);
-                X[j * c + col] = cas::simplify(cas::expand(cas::add(terms)) * inv);
+                const Expr N = cas::expand(cas::add(terms));
+                // a monomial the numerator shares with the determinant cancels: the example
+                // cart-pole's −3 g lh² mp²/(4 lh² mc mp + lh² mp²) reads −3 g mp/(4 mc + mp)
+                const Expr g = N.is_zero() ? Expr(1) : shared_monomial(monomial_content(N), D_content);
+                if (g.is_one()) X[j * c + col] = cas::simplify(N * inv);
+                else {
+                    const Expr ginv = cas::pow(g, Expr(-1));
+                    X[j * c + col] = cas::simplify(cas::expand(N * ginv) * cas::pow(cas::expand(D * ginv), Expr(-1)));
+                }
             }
         return X;
     }
@@ -275,7 +333,9 @@ std::string emit_linear(const Model& model, const Linearization& lin, bool latex
         s << "\n" << c << "  = (";
         for (std::size_t i = 0; i < N; ++i) s << (i ? ", " : "") << number(lin.rate_values[i]);
         s << ") at the parameters' defaults: ";
-        if (numerically)
+        if (numerically && residual == 0)
+            s << "an equilibrium at these values (not for every value of the parameters)\n";
+        else if (numerically)
             s << "an equilibrium not proved symbolically, numerically zero to " << number(residual) << "\n";
         else
             s << "not an equilibrium (a linearization about a moving state)\n";

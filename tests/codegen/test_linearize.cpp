@@ -226,3 +226,20 @@ TEST_CASE("linearization above 8 unknowns (Gauss-Jordan) = central differences: 
     const Eigen::VectorXd a = accelerations(c, y);
     for (std::size_t i = 0; i < 6; ++i) CHECK(lin.rate_values[6 + i] == Approx(a(static_cast<Eigen::Index>(i))).margin(1e-12));
 }
+
+// Bug caught: a monomial shared by the adjugate's numerator and determinant left in both (the
+// example cart-pole printed −3 g lh² mp²/(4 lh² mc mp + lh² mp²)), or cancelled wrongly. The
+// oracle: the textbook cart-pole (a rod of half-length lh, I = mp lh²/3 about its centre):
+// ∂ẍ/∂θ = −3 g mp/(4 mc + mp) at the top, and the entries' values at random parameters
+// unchanged by the cancellation (central differences).
+TEST_CASE("linearization: a monomial shared by numerator and determinant cancels (the example cart-pole)",
+          "[codegen][linearize]") {
+    const Compiled c = compile(file(PHYNJO_EXAMPLE_MODELS "/cart_pole.lag"));
+    const auto lin = at(c, {{"th", "pi"}});
+    CHECK(cas::to_string(lin.A[9]) == "-3*g*mp/(4*mc + mp)");
+    CHECK(same(lin.A[9], "-3*g*mp/(4*mc + mp)"));
+    CHECK(against_differences(c, lin) < 1e-7);
+    const std::string text = codegen::emit_linear(c.model, lin, false);
+    INFO(text);
+    CHECK(text.find("an equilibrium at these values (not for every value of the parameters)") != std::string::npos);
+}
