@@ -396,9 +396,7 @@ void Bdf::advance(World& w, double t_end) {
 
 void Bdf::step(World& w, double t_end) {
     auto& k = *impl_;
-    if (!(t_end > w.time))
-        throw std::invalid_argument("Bdf::step: t_end " + std::to_string(t_end) + " is not after the world's time " +
-                                    std::to_string(w.time));
+    sundials::require_after(w, t_end, "Bdf::step");
     if (!k.started || !k.last.matches(w, k.n)) k.start(w);
     // one internal step unless the last one already reaches past the world (its output was interpolated)
     if (!(k.t > w.time)) k.steps_until(w, t_end, true);

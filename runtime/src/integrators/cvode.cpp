@@ -209,22 +209,20 @@ void Cvode::advance(World& w, double t_end) {
 
 void Cvode::step(World& w, double t_end) {
     auto& k = *impl_;
-    if (!(t_end > w.time))
-        throw std::invalid_argument("Cvode::step: t_end " + std::to_string(t_end) + " is not after the world's time " +
-                                    std::to_string(w.time));
+    sundials::require_after(w, t_end, "Cvode::step");
     double* y = N_VGetArrayPointer(k.y);
     k.prepare(w);
     k.error = nullptr;
     k.message.clear();
-    int flag = CV_SUCCESS;
     double tn = w.time, t_reached = w.time;
-    CVodeGetCurrentTime(k.mem, &tn);
-    // one internal step unless the last one already reaches past the world (its output was
-    // interpolated); CVODE returns a step it took but did not return before taking another
-    while (flag >= 0 && !(tn > w.time)) {
-        flag = CVode(k.mem, t_end, k.y, &t_reached, CV_ONE_STEP);
-        CVodeGetCurrentTime(k.mem, &tn);
-    }
+    const int flag = sundials::step_past(
+        w.time, tn,
+        [&] {
+            double now = tn;
+            CVodeGetCurrentTime(k.mem, &now);
+            return now;
+        },
+        [&] { return CVode(k.mem, t_end, k.y, &t_reached, CV_ONE_STEP); });
     const double t_out = std::min(tn, t_end);
     // the same interpolant CV_NORMAL gives at its output times
     if (flag >= 0) k.check(CVodeGetDky(k.mem, t_out, 0, k.y), "CVodeGetDky");

@@ -289,22 +289,20 @@ void Ida::advance(World& w, double t_end) {
 
 void Ida::step(World& w, double t_end) {
     auto& k = *impl_;
-    if (!(t_end > w.time))
-        throw std::invalid_argument("Ida::step: t_end " + std::to_string(t_end) + " is not after the world's time " +
-                                    std::to_string(w.time));
+    sundials::require_after(w, t_end, "Ida::step");
     const double* y = N_VGetArrayPointer(k.yy);
     k.prepare(w);
     k.error = nullptr;
     k.message.clear();
-    int flag = IDA_SUCCESS;
     double tn = w.time, t_reached = w.time;
-    IDAGetCurrentTime(k.mem, &tn);
-    // one internal step unless the last one already reaches past the world (its output was
-    // interpolated); IDA returns a step it took but did not return before taking another
-    while (flag >= 0 && !(tn > w.time)) {
-        flag = IDASolve(k.mem, t_end, &t_reached, k.yy, k.yp, IDA_ONE_STEP);
-        IDAGetCurrentTime(k.mem, &tn);
-    }
+    int flag = sundials::step_past(
+        w.time, tn,
+        [&] {
+            double now = tn;
+            IDAGetCurrentTime(k.mem, &now);
+            return now;
+        },
+        [&] { return IDASolve(k.mem, t_end, &t_reached, k.yy, k.yp, IDA_ONE_STEP); });
     const double t_out = std::min(tn, t_end);
     // past t_end: IDA_NORMAL takes no step and interpolates there, as advance's call does
     if (flag >= 0 && tn >= t_end) flag = IDASolve(k.mem, t_end, &t_reached, k.yy, k.yp, IDA_NORMAL);

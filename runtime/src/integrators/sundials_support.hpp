@@ -31,6 +31,30 @@ inline void check_setup(int flag, const char* solver, const char* what, char* (*
         throw std::runtime_error(std::string(solver) + " setup failed in " + what + ": " + flag_name(name_of, flag));
 }
 
+/// A solver's step() towards t_end: std::invalid_argument naming `who` unless t_end is after
+/// the world's time.
+inline void require_after(const World& w, double t_end, const char* who) {
+    if (!(t_end > w.time))
+        throw std::invalid_argument(std::string(who) + ": t_end " + std::to_string(t_end) +
+                                    " is not after the world's time " + std::to_string(w.time));
+}
+
+/// The internal step of a solver's step(): `take()` (one CV_ONE_STEP / IDA_ONE_STEP call,
+/// returning its flag) unless the solver's time `now()` is already past the world's time
+/// `t_world` (its last output was interpolated back); a solver hands back a step it took
+/// but did not return before it takes another, so it is called until its time passes
+/// t_world or it fails. Returns the last flag (0 when no call was needed), `tn` its time.
+template <class Now, class Take>
+int step_past(double t_world, double& tn, Now&& now, Take&& take) {
+    int flag = 0;
+    tn = now();
+    while (flag >= 0 && !(tn > t_world)) {
+        flag = take();
+        tn = now();
+    }
+    return flag;
+}
+
 /// Where a solver left a world: its time and (q, q'), to tell a continuation from a restart.
 struct LastState {
     bool valid = false;
