@@ -1,4 +1,4 @@
-// Constrained models (lag-format.md, *Constraints*):
+// Constrained models (docs/language.md, *Constraints*):
 //  * compile speed: `phynjo-lagc` on the N-link pendulum in Cartesian coordinates (2N
 //    coordinates, N rod constraints; the .lag written by this program) against SymPy's
 //    LagrangesMethod with hol_coneqs + mass_matrix_full / forcing_full + cse + C printing

@@ -83,7 +83,7 @@ Expr derive_compound(Expr e, Rec&& rec) {
         case Function::Cosh: return mul({sinh(u), du});
         case Function::Tanh: return mul({add({Expr(1), mul({Expr(-1), pow(e, Expr(2))})}), du}); // 1 − tanh²
         case Function::Abs: return mul({sign(u), du});
-        case Function::Sign: return Expr(0); // lag-format.md: sign' = 0
+        case Function::Sign: return Expr(0); // docs/language.md: sign' = 0
         case Function::Atan2: break;      // above
         }
         return Expr(0);

@@ -121,7 +121,7 @@ std::vector<Expr> summands(Expr e) {
     return out;
 }
 
-/// Fills the constraint part of `eom` (lag-format.md, *Constraints*): G, γ, φ and φ'.
+/// Fills the constraint part of `eom` (docs/language.md, *Constraints*): G, γ, φ and φ'.
 void derive_constraints(const Model& model, const std::vector<Expr>& q, const std::vector<Expr>& qd,
                         EquationsOfMotion& eom) {
     const std::size_t n = model.dof(), m = model.constraints.size();

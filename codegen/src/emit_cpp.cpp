@@ -1,4 +1,4 @@
-// Generated code per generated-api.md: the header, then the source — the model's functions,
+// Generated code per docs/generated-code.md: the header, then the source — the model's functions,
 // the runtime glue and, with --main, main() — each from its own part (emit_detail.hpp).
 #include "phynjo/codegen/emit.hpp"
 

@@ -120,10 +120,10 @@ std::string diagonal_mass(const std::vector<std::string>& diagonal, const std::s
 /// `(void)t;` and `(void)P;` for what a body does not use.
 std::string unused(bool uses_t, bool uses_params, bool has_t = true);
 
-/// rhs_jacobian and input_jacobian (generated-api.md v2) from the Jacobian part of `eom`.
+/// rhs_jacobian and input_jacobian (docs/generated-code.md) from the Jacobian part of `eom`.
 std::string emit_jacobians(const Model& m, const EquationsOfMotion& eom, Names names);
 
-/// The generated header: parameters, every declaration of generated-api.md.
+/// The generated header: parameters, every declaration of docs/generated-code.md.
 std::string emit_header(const Model& m, bool mass_depends_on_velocities);
 /// The model's functions (mass_matrix, forcing, momenta, generalized_forces, accelerations,
 /// energy, initial_state), from `eom` in Horner form.

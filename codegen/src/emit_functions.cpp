@@ -344,7 +344,7 @@ std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const N
           << "    for (auto& e : each) e = &P;\n"
           << "    return rk4_step_values_lanes_each(each, t, h, t1, q, qdot, qddot, E, g);\n}\n\n";
     }
-    // events (contract v2): apply_event one case per event, every right side read from the
+    // events: apply_event one case per event, every right side read from the
     // state before any is stored
     s << "void apply_event(const Parameters& P, std::size_t k, double t, std::span<double> q, std::span<double> qdot) {\n"
       << sizes("apply_event", {{"q", n}, {"qdot", n}}) << "    (void)P;\n    (void)t;\n    switch (k) {\n";
@@ -374,7 +374,7 @@ std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const N
     s << "    default: break;\n    }\n"
       << "    throw std::out_of_range(\"" << m.name << "::apply_event: event \" + std::to_string(k) + \" (the model has "
       << ne << ")\");\n}\n\n";
-    // shapes (contract v2): the points from one CSE pass; each sphere's ∂(X, Y, Z)/∂q; the
+    // shapes: the points from one CSE pass; each sphere's ∂(X, Y, Z)/∂q; the
     // radii (phynjo extension)
     {
         std::vector<Expr> points, jac, radii;

@@ -1,4 +1,4 @@
-// The generated header (generated-api.md): the model's constants, its Parameters and every
+// The generated header (docs/generated-code.md): the model's constants, its Parameters and every
 // declaration; and the source's resolution of parameters defined from others.
 #include "emit_detail.hpp"
 
@@ -26,7 +26,7 @@ std::string emit_header(const Model& m, bool mass_depends_on_velocities) {
       << "/// The constraints, in file order (the rows of G, the entries of lambda).\n"
       << "inline constexpr std::array<std::string_view, n_constraints> constraint_names{";
     for (std::size_t k = 0; k < m.constraints.size(); ++k) h << (k ? ", " : "") << '"' << m.constraints[k].name << '"';
-    h << "};\n/// (v2) Number of inputs: parameters declared by `input`, meant to change during a run.\n"
+    h << "};\n/// Number of inputs: parameters declared by `input`, meant to change during a run.\n"
       << "inline constexpr std::size_t n_inputs = " << m.n_inputs() << ";\n"
       << "/// The inputs, in file order (each is also a field of Parameters).\n"
       << "inline constexpr std::array<std::string_view, n_inputs> input_names{";
@@ -135,7 +135,7 @@ std::string emit_header(const Model& m, bool mass_depends_on_velocities) {
       << "/// ∂L/∂q + Q − ∂R/∂q': the right side of p' (for canonical integrators).\n"
       << "void generalized_forces(const Parameters& P, double t, std::span<const double> q, std::span<const double> qdot,\n"
       << "                        std::span<double> F);\n\n"
-      << "// (v2) Constraints: arrays of length n_constraints; G is n_constraints*dof, row-major.\n"
+      << "// Constraints: arrays of length n_constraints; G is n_constraints*dof, row-major.\n"
       << "/// phi: phi(q, t) for holonomic rows, a(q, t)*q' + b(q, t) for nonholonomic rows.\n"
       << "void constraint_residuals(const Parameters& P, double t, std::span<const double> q,\n"
       << "                          std::span<const double> qdot, std::span<double> phi);\n"
@@ -170,16 +170,16 @@ std::string emit_header(const Model& m, bool mass_depends_on_velocities) {
       << "/// dF = d(F)/d(q, q') (dof x 2*dof each, row-major; the right half of dp is M).\n"
       << "void canonical_jacobian(const Parameters& P, double t, std::span<const double> q, std::span<const double> qdot,\n"
       << "                        std::span<double> p, std::span<double> F, std::span<double> dp, std::span<double> dF);\n"
-      << "/// (v2) The event guards g = A - B, length n_events.\n"
+      << "/// The event guards g = A - B, length n_events.\n"
       << "void event_guards(const Parameters& P, double t, std::span<const double> q, std::span<const double> qdot,\n"
       << "                  std::span<double> g);\n"
       << "/// (phynjo extension) The resets of event k (< n_events) at time t: every right side\n"
       << "/// evaluated on (q, qdot) as given — the state just before the event — then stored into\n"
       << "/// them. A `stop` event resets nothing. std::out_of_range for k >= n_events.\n"
       << "void apply_event(const Parameters& P, std::size_t k, double t, std::span<double> q, std::span<double> qdot);\n"
-      << "/// (v2) Shapes, file order: centres of spheres (3 each) and segment end points (6 each).\n"
+      << "/// Shapes, file order: centres of spheres (3 each) and segment end points (6 each).\n"
       << "void shape_positions(const Parameters& P, double t, std::span<const double> q, std::span<double> X);\n"
-      << "/// (v2) For each sphere, d(X, Y, Z)/dq: 3 x dof, row-major, spheres in file order.\n"
+      << "/// For each sphere, d(X, Y, Z)/dq: 3 x dof, row-major, spheres in file order.\n"
       << "void sphere_jacobians(const Parameters& P, double t, std::span<const double> q, std::span<double> J);\n"
       << "/// (phynjo extension) The spheres' radii (m), file order, length n_spheres.\n"
       << "void sphere_radii(const Parameters& P, std::span<double> r);\n\n"

@@ -1,4 +1,4 @@
-// rhs_jacobian and input_jacobian (generated-api.md v2): M, f, G, γ and the entries of
+// rhs_jacobian and input_jacobian (docs/generated-code.md): M, f, G, γ and the entries of
 // ∂r/∂(y, u), ∂c/∂(y, u) from one CSE pass, split where the entries need q'' and λ: the
 // saddle-point matrix is factored once, solved for q'' and λ, then for every column
 // (equations.hpp: implicit differentiation).

@@ -79,7 +79,7 @@ private:
     std::vector<std::string> failed_names_; ///< names declared in statements with syntax errors
     SourceSpan coordinates_at_, lagrangian_at_, dissipation_at_, model_at_;
     std::vector<Expr> forces_, init_q_, init_qd_;
-    /// (v2) Dimensions, when the file carries units: the checker and every declared name's.
+    /// Dimensions, when the file carries units: the checker and every declared name's.
     std::optional<units::Checker> units_;
     std::map<std::string, units::Dim, std::less<>> dims_;
 
@@ -455,7 +455,7 @@ private:
         if (ok) model_.events.push_back(std::move(event));
     }
 
-    /// (v2) A shape: its points may depend on q, t, parameters and inputs (not velocities);
+    /// A shape: its points may depend on q, t, parameters and inputs (not velocities);
     /// a sphere's radius is a positive constant (numbers and parameters). A shape that
     /// depends on no coordinate is allowed: a fixed (or moved by t) obstacle.
     void visit(const grammar::ast::ShapeStmt& s) {

@@ -21,7 +21,7 @@ Dim make(std::initializer_list<int> exps) {
     return d;
 }
 
-/// The named units of lag-format.md *Units*, base first.
+/// The named units of docs/language.md *Units*, base first.
 const std::array<std::pair<const char*, Dim>, 16>& named() {
     static const std::array<std::pair<const char*, Dim>, 16> table{{
         {"kg", make({1})}, {"m", make({0, 1})}, {"s", make({0, 0, 1})}, {"A", make({0, 0, 0, 1})},

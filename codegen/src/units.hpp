@@ -1,5 +1,5 @@
 #pragma once
-// Physical dimensions of .lag files (lag-format.md, *Units*): parsing `[unit]` texts and
+// Physical dimensions of .lag files (docs/language.md, *Units*): parsing `[unit]` texts and
 // checking the dimensions of expressions on the position-tagged AST, so that an error
 // points at the offending term. Internal to the front end (frontend.cpp).
 #include "phynjo/grammar/ast.hpp"

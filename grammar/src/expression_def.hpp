@@ -1,5 +1,5 @@
 #pragma once
-// The X3 rules of the expression language (lag-format.md, *Expressions*):
+// The X3 rules of the expression language (docs/language.md, *Expressions*):
 //   expression := product (('+' | '-') product)*
 //   product    := unary (('*' | '/') unary)*
 //   unary      := '-'* power                      (-x^2 is -(x^2))
@@ -137,7 +137,7 @@ inline const auto postfix_def = primary >> *x3::char_('\'');
 inline const auto power_def = postfix >> -('^' > guarded[unary]);
 inline const auto unary_def = *x3::char_('-') >> power;
 inline const auto product_op_def = x3::char_("*/") > unary;
-// (v2) `[unit]`: any text up to `]` on the line; phynjo-lagc's front end reads it
+// `[unit]`: any text up to `]` on the line; phynjo-lagc's front end reads it
 inline const auto unit_def = '[' > x3::lexeme[*(x3::char_ - x3::char_("[]\n"))] > ']';
 // a quantity may be a factor: `0.5 [N]*x` (the unit binds to the numbers before it)
 inline const auto product_def = unary >> *product_op >> -unit >> *product_op;

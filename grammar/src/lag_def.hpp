@@ -1,5 +1,5 @@
 #pragma once
-// X3 rules of .lag statements (lag-format.md, *Statements*), on top of the expression rules.
+// X3 rules of .lag statements (docs/language.md, *Statements*), on top of the expression rules.
 // A statement is one logical line (lag.cpp splits the file first: a newline inside open
 // parentheses is white space), so the rules see one statement at a time.
 #include "expression_def.hpp"

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The bad-input suite: every error class of lag-format.md and every documented limit, each
+# The bad-input suite: every error class of docs/language.md and every documented limit, each
 # checked against the exact first diagnostic line.
 #   usage: run.sh PATH/TO/phynjo-lagc PATH/TO/phynjo-cas
 set -u

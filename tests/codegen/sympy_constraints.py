@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Independent check of constrained models with SymPy's LagrangesMethod.
 
-For each .lag model with constraints (lag-format.md, *Constraints*; also inputs at their
+For each .lag model with constraints (docs/language.md, *Constraints*; also inputs at their
 defaults, forces and a Rayleigh function, as generalized forces in LagrangesMethod's
 forcelist), SymPy's
 sympy.physics.mechanics.LagrangesMethod with hol_coneqs (constraints free of velocities)

@@ -1,4 +1,4 @@
-// Constrained models (lag-format.md, *Constraints*): the generated KKT solve and the
+// Constrained models (docs/language.md, *Constraints*): the generated KKT solve and the
 // integrators' projections, against analytic answers and independent references.
 #include "atwood.hpp"
 #include "bead_on_rod.hpp"

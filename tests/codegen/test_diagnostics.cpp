@@ -1,4 +1,4 @@
-// Golden diagnostics for .lag files: every error class of lag-format.md, exactly as a user
+// Golden diagnostics for .lag files: every error class of docs/language.md, exactly as a user
 // sees it, several per run where possible.
 #include "compiled_model.hpp"
 

@@ -314,7 +314,7 @@ TEST_CASE("generated code with every v2 function: accelerations against the hand
 }
 
 // Bugs caught: a model without the declarations contract v2 makes for every model — events
-// and shapes (generated-api.md: "declared for every model …, then the counts are 0 and the
+// and shapes (docs/generated-code.md: "declared for every model …, then the counts are 0 and the
 // functions still exist"; a user's code naming them would not compile) —, or their size
 // checks missing (a caller's wrong span accepted silently).
 TEST_CASE("contract v2: every model declares events and shapes (none yet), sizes checked", "[codegen][generated]") {

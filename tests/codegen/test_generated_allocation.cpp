@@ -1,4 +1,4 @@
-// Generated functions never allocate (generated-api.md): a counting global allocator.
+// Generated functions never allocate (docs/generated-code.md): a counting global allocator.
 #include "double_pendulum.hpp"
 #include "four_bar.hpp"
 #include "nlink_cart_5.hpp"

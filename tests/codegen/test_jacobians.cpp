@@ -1,4 +1,4 @@
-// The generated rhs_jacobian and input_jacobian (generated-api.md v2) against fourth-order
+// The generated rhs_jacobian and input_jacobian (docs/generated-code.md) against fourth-order
 // central differences of the generated accelerations, at random states near each model's
 // initial state, for every example and test model (constrained ones included); and against
 // closed forms.

@@ -1,4 +1,4 @@
-// The expression grammar of lag-format.md: precedence, associativity, lexical rules.
+// The expression grammar of docs/language.md: precedence, associativity, lexical rules.
 #include "phynjo/cas/cas.hpp"
 #include "phynjo/grammar/expression.hpp"
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The simulators of models with events (generated-api.md: --events FILE): the events CSV,
+# The simulators of models with events (docs/generated-code.md: --events FILE): the events CSV,
 # a stop, Zeno as exit 1 with a message naming the event, the rest-speed remedy, usage errors.
 # Catches: no --events file or a wrong header, rows before their crossing, a Zeno run that
 # exits 0 or hangs, a stop that does not end the output at the crossing.

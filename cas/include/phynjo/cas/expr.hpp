@@ -40,7 +40,7 @@ namespace phynjo::cas {
 /// (`-Werror=switch`).
 enum class Kind : std::uint8_t { Number, Constant, Symbol, TimeDerivative, Function, Pow, Mul, Add };
 
-/// Elementary functions: of one argument, and atan2(y, x) (v2) of two.
+/// Elementary functions: of one argument, and atan2(y, x) of two.
 enum class Function : std::uint8_t { Sin, Cos, Tan, Exp, Log, Asin, Acos, Atan, Sinh, Cosh, Tanh, Abs, Sign, Atan2 };
 
 /// Exact named constants.
@@ -154,7 +154,7 @@ Expr cos(Expr x);
 Expr tan(Expr x);
 Expr exp(Expr x);
 Expr log(Expr x);
-/// (v2) asin, acos (|x| ≤ 1), atan, sinh, cosh, tanh; abs (derivative sign(x)) and sign
+/// asin, acos (|x| ≤ 1), atan, sinh, cosh, tanh; abs (derivative sign(x)) and sign
 /// (−1, 0 or 1; derivative 0).
 Expr asin(Expr x);
 Expr acos(Expr x);
@@ -164,7 +164,7 @@ Expr cosh(Expr x);
 Expr tanh(Expr x);
 Expr abs(Expr x);
 Expr sign(Expr x);
-/// (v2) atan2(y, x): the angle of the point (x, y), in (−π, π]. Exact where the angle is
+/// atan2(y, x): the angle of the point (x, y), in (−π, π]. Exact where the angle is
 /// (a coordinate zero, |x| = |y|; atan(y/x) for a number x > 0); derivative
 /// (x·dy − y·dx)/(x² + y²); undefined (DomainError) at (0, 0).
 Expr atan2(Expr y, Expr x);

@@ -9,7 +9,7 @@
 
 namespace phynjo::cas {
 
-/// Infix in the input syntax of `lag-format.md`: parsing the result gives back `e` exactly.
+/// Infix in the input syntax of `docs/language.md`: parsing the result gives back `e` exactly.
 /// Terms and factors appear in a readable order (by kind, then alphabetically).
 std::string to_string(Expr e);
 /// The same with a smaller output limit (throws LimitError past `max_chars`).

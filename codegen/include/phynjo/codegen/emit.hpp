@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// Emission: the generated C++ (generated-api.md), LaTeX, and M and f in the input syntax.
+/// Emission: the generated C++ (docs/generated-code.md), LaTeX, and M and f in the input syntax.
 #include "phynjo/codegen/equations.hpp"
 #include "phynjo/codegen/model.hpp"
 

@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// The equations of motion of a model, derived exactly (lag-format.md, *Meaning*):
+/// The equations of motion of a model, derived exactly (docs/language.md, *Meaning*):
 ///   d/dt(∂L/∂q_i') − ∂L/∂q_i = Q_i − ∂R/∂q_i'   brought to   M(q, t)·q'' = f(q, q', t)
 /// with M_ij = ∂²L/∂q_i'∂q_j' and, expanding d/dt(∂L/∂q_i') = Σ_j M_ij q_j'' + Σ_j
 /// (∂p_i/∂q_j) q_j' + ∂p_i/∂t,
@@ -17,7 +17,7 @@ struct EquationsOfMotion {
     std::size_t dof = 0;
     std::vector<cas::Expr> mass_matrix; ///< row-major dof×dof, symmetric
     /// True when M depends on the velocities (L not quadratic in them: a relativistic
-    /// particle): the generated mass_matrix then takes q' too (contract v2).
+    /// particle): the generated mass_matrix then takes q' too.
     bool mass_depends_on_velocities = false;
     std::vector<cas::Expr> forcing;     ///< f
     std::vector<cas::Expr> momenta;     ///< p
@@ -29,7 +29,7 @@ struct EquationsOfMotion {
     /// derive_jacobians uses it to take ∂F/∂y from the symmetry of ∂²L (see there).
     std::vector<cas::Expr> nonconservative_forces;
 
-    // (v2) Constraints, file order (lag-format.md, *Constraints*): M q'' = f + Gᵀλ, G q'' = γ.
+    // Constraints, file order (docs/language.md, *Constraints*): M q'' = f + Gᵀλ, G q'' = γ.
     std::size_t n_constraints = 0;
     /// G, row-major n_constraints×dof: ∂φ/∂q (holonomic rows), ∂φ/∂q' (nonholonomic rows).
     std::vector<cas::Expr> constraint_matrix;
@@ -43,7 +43,7 @@ struct EquationsOfMotion {
     /// are the scale against which a residual counts as small (constraint_scales).
     std::vector<std::vector<cas::Expr>> residual_terms, velocity_residual_terms;
 
-    // (v2) Jacobians of y' (filled by derive_jacobians) = (q', q'') with y = (q, q'), by implicit differentiation of the
+    // Jacobians of y' (filled by derive_jacobians) = (q', q'') with y = (q, q'), by implicit differentiation of the
     // saddle-point system. With symbols â for q'' and λ̂ for λ,
     //   r(y, â, λ̂) = f − M â + Gᵀλ̂ = 0,   c(y, â) = γ − G â = 0,
     // so that at â = q'', λ̂ = λ

@@ -1,7 +1,7 @@
 #pragma once
 /// \file
 /// From a parsed .lag file to a checked Model: names declared once and before use, the
-/// meaning of `'` (lag-format.md), constant parameters and initial values, one force per
+/// meaning of `'` (docs/language.md), constant parameters and initial values, one force per
 /// coordinate; every mistake reported at its place, several per run.
 #include "phynjo/codegen/model.hpp"
 #include "phynjo/grammar/diagnostics.hpp"

@@ -33,13 +33,13 @@ struct Parameter {
     /// for a plain number.
     cas::Expr definition;
     [[nodiscard]] bool derived() const noexcept { return !definition.is_null(); }
-    /// (v2) Declared by `input`: a parameter meant to change during a run; also listed in
+    /// Declared by `input`: a parameter meant to change during a run; also listed in
     /// the generated input_names.
     bool input = false;
     std::string unit; ///< its unit as written ("N/m") when its value is one quantity, else its dimension in base units ("kg*m^2"; empty: none, or a file without units)
 };
 
-/// (v2) `constraint NAME: A = B`: φ = A − B = 0 (lag-format.md, *Constraints*).
+/// `constraint NAME: A = B`: φ = A − B = 0 (docs/language.md, *Constraints*).
 struct Constraint {
     std::string name;
     cas::Expr phi;          ///< A − B, every `let` substituted
@@ -48,7 +48,7 @@ struct Constraint {
     SourceSpan where;       ///< the constraint's name
 };
 
-/// (v2) One reset of an event: coordinate `coordinate` (velocity when `velocity`) becomes
+/// One reset of an event: coordinate `coordinate` (velocity when `velocity`) becomes
 /// `value`, evaluated on the state just before the event.
 struct EventReset {
     std::size_t coordinate = 0;
@@ -57,7 +57,7 @@ struct EventReset {
     SourceSpan where; ///< the reset's name
 };
 
-/// (v2) `event NAME: A < B -> ACTIONS` (lag-format.md, *Events*): fires when g = A − B
+/// `event NAME: A < B -> ACTIONS` (docs/language.md, *Events*): fires when g = A − B
 /// crosses zero downwards (`<`, direction −1) or upwards (`>`, direction +1).
 struct Event {
     std::string name;
@@ -68,8 +68,8 @@ struct Event {
     SourceSpan where; ///< the event's name
 };
 
-/// (v2) `shape NAME: sphere R at (X, Y, Z)` or `shape NAME: segment (…) to (…)`
-/// (lag-format.md, *Shapes*): geometry attached to the model's kinematics.
+/// `shape NAME: sphere R at (X, Y, Z)` or `shape NAME: segment (…) to (…)`
+/// (docs/language.md, *Shapes*): geometry attached to the model's kinematics.
 struct Shape {
     enum class Kind { Sphere, Segment };
     std::string name;

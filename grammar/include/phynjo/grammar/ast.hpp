@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// The position-tagged syntax tree of the expression language (lag-format.md, *Expressions*).
+/// The position-tagged syntax tree of the expression language (docs/language.md, *Expressions*).
 /// Precedence is the tree's shape: Sum of Products of Unary of Power of Postfix of Primary.
 #include <boost/optional.hpp>
 #include <boost/spirit/home/x3/support/ast/position_tagged.hpp>
@@ -59,7 +59,7 @@ struct Unary : x3::position_tagged {
     Power power;
 };
 
-/// (v2) `[unit]` (lag-format.md, *Units*): the text between the brackets, as written.
+/// `[unit]` (docs/language.md, *Units*): the text between the brackets, as written.
 struct Unit : x3::position_tagged {
     std::string text;
 };
@@ -70,7 +70,7 @@ struct ProductOp : x3::position_tagged {
     Unary operand;
 };
 
-/// A product, and (v2) the unit of a product of numbers: `9.81 [m/s^2]`, `1/2 [N/m]`, which
+/// A product, and the unit of a product of numbers: `9.81 [m/s^2]`, `1/2 [N/m]`, which
 /// the product may go on after: `0.5 [N]*x` (the unit binds to the numbers before it).
 struct Product : x3::position_tagged {
     Unary first;
@@ -90,7 +90,7 @@ struct Expression : x3::position_tagged {
     std::vector<SumOp> rest;
 };
 
-// ---- .lag statements (lag-format.md, *Statements*) -------------------------------------
+// ---- .lag statements (docs/language.md, *Statements*) -------------------------------------
 
 /// `NAME = EXPR` in `parameters`, or `Q = EXPR` / `Q' = EXPR` in `initial`.
 struct Binding : x3::position_tagged {
@@ -102,7 +102,7 @@ struct Binding : x3::position_tagged {
 struct ModelStmt : x3::position_tagged {
     Name name;
 };
-/// A coordinate and (v2) its unit: `x [m]`.
+/// A coordinate and its unit: `x [m]`.
 struct CoordinateDecl : x3::position_tagged {
     Name name;
     boost::optional<Unit> unit;
@@ -132,25 +132,25 @@ struct InitialStmt : x3::position_tagged {
     std::vector<Binding> items;
 };
 
-/// (v2) `input u = 0, …`: exogenous inputs with defaults.
+/// `input u = 0, …`: exogenous inputs with defaults.
 struct InputStmt : x3::position_tagged {
     std::vector<Binding> items;
 };
-/// (v2) `constraint NAME: A = B`.
+/// `constraint NAME: A = B`.
 struct ConstraintStmt : x3::position_tagged {
     Name name;
     Expression lhs;
     Expression rhs;
 };
 
-/// (v2) One action of an event: a reset `Q = EXPR` or `Q' = EXPR`, or `stop` (a name with
+/// One action of an event: a reset `Q = EXPR` or `Q' = EXPR`, or `stop` (a name with
 /// no value; the front end decides what a name without a value means).
 struct EventAction : x3::position_tagged {
     Name name;
     std::string primes;
     boost::optional<Expression> value;
 };
-/// (v2) `event NAME: A < B -> ACTIONS` (relation '<' or '>').
+/// `event NAME: A < B -> ACTIONS` (relation '<' or '>').
 struct EventStmt : x3::position_tagged {
     Name name;
     Expression lhs;
@@ -159,16 +159,16 @@ struct EventStmt : x3::position_tagged {
     std::vector<EventAction> actions;
 };
 
-/// (v2) A point `(X, Y, Z)` of a shape, world frame.
+/// A point `(X, Y, Z)` of a shape, world frame.
 struct Point : x3::position_tagged {
     Expression x, y, z;
 };
-/// (v2) `sphere R at (X, Y, Z)`.
+/// `sphere R at (X, Y, Z)`.
 struct Sphere : x3::position_tagged {
     Expression radius;
     Point centre;
 };
-/// (v2) `segment (X1, Y1, Z1) to (X2, Y2, Z2)`.
+/// `segment (X1, Y1, Z1) to (X2, Y2, Z2)`.
 struct Segment : x3::position_tagged {
     Point from, to;
 };
@@ -176,7 +176,7 @@ struct Geometry : x3::variant<Sphere, Segment> {
     using base_type::base_type;
     using base_type::operator=;
 };
-/// (v2) `shape NAME: GEOMETRY` (lag-format.md, *Shapes*).
+/// `shape NAME: GEOMETRY` (docs/language.md, *Shapes*).
 struct ShapeStmt : x3::position_tagged {
     Name name;
     Geometry geometry;

@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// The built-in names of the model language (lag-format.md, *Lexical rules*), declared once:
+/// The built-in names of the model language (docs/language.md, *Lexical rules*), declared once:
 /// the constants `t` (time) and `pi`, and the functions. The converter to CAS expressions,
 /// the front end (names that cannot be declared) and the messages all read these tables.
 #include "phynjo/cas/expr.hpp"

@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// Parsing `.lag` model files (lag-format.md) into position-tagged statements.
+/// Parsing `.lag` model files (docs/language.md) into position-tagged statements.
 #include "phynjo/grammar/ast.hpp"
 #include "phynjo/grammar/builtins.hpp"
 #include "phynjo/grammar/diagnostics.hpp"
@@ -31,8 +31,8 @@ struct ParsedModel {
     /// The names a failed coordinates, parameters or let statement declares: a later stage
     /// does not report them as unknown.
     std::vector<std::string> failed_names;
-    /// (v2) True when the file carries a unit anywhere (a `[` outside comments): its
-    /// dimensions are then checked (lag-format.md, *Units*).
+    /// True when the file carries a unit anywhere (a `[` outside comments): its
+    /// dimensions are then checked (docs/language.md, *Units*).
     bool has_units = false;
 };
 

@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// One world for rigid bodies and generated models (lag-format.md v2, *Shapes*): a Scene holds
+/// One world for rigid bodies and generated models (docs/language.md, *Shapes*): a Scene holds
 /// the rigid bodies, then for every model instance one component per sphere of the model (its
 /// *proxy*: position, velocity and radius, kept in step with the model by the rules below) and
 /// one component per coordinate (fields `q`, `qd`). The contact rule (contact_solver.hpp)

@@ -77,7 +77,7 @@ private:
     std::vector<std::string> constraints_;
 };
 
-/// Initial values that violate a constraint (relative 1e-9; lag-format.md, *Constraints*).
+/// Initial values that violate a constraint (relative 1e-9; docs/language.md, *Constraints*).
 class InconsistentInitialValues : public Error {
 public:
     InconsistentInitialValues(const std::string& message, std::string constraint, double residual)

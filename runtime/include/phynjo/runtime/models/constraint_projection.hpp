@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// Keeping a constrained generated model on its constraint manifold (lag-format.md,
+/// Keeping a constrained generated model on its constraint manifold (docs/language.md,
 /// *Constraints*): checks of initial values, and the projections the integrators apply
 /// after a step (lagrangian_rk4, DormandPrince45; lagrangian_midpoint projects
 /// symmetrically). Projections are minimum-norm (Euclidean in the coordinates):
@@ -35,7 +35,7 @@ struct ProjectionOptions {
 /// The weight of the state's size in the scale of a residual (ProjectionOptions::tolerance).
 inline constexpr double kScaleFloor = 1e-3;
 
-/// The default relative tolerance of initial values (lag-format.md: 1e-9).
+/// The default relative tolerance of initial values (docs/language.md: 1e-9).
 inline constexpr double kInitialConstraintTolerance = 1e-9;
 
 /// The worst-satisfied constraint at a state.

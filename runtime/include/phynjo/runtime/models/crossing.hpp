@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// Locating where an event guard crosses zero between two accepted steps (lag-format.md,
+/// Locating where an event guard crosses zero between two accepted steps (docs/language.md,
 /// *Events*: crossings are located, never rounded to the step): the continuous extension of
 /// a step of a second-order system, and a bracketing root finder on it.
 /// (source: models/crossing.cpp)

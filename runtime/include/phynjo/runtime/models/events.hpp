@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// Events of generated models (lag-format.md, *Events*) between the steps of any integrator:
+/// Events of generated models (docs/language.md, *Events*) between the steps of any integrator:
 /// crossings located on the step's continuous extension, resets applied at the crossing,
 /// the log of what fired as a value, and the rules for simultaneous events, re-arming and
 /// Zeno behaviour. (source: models/events.cpp)
@@ -61,7 +61,7 @@ struct EventRecord {
 };
 
 struct EventOptions {
-    /// The crossing time is located to this, s (lag-format.md: 1e-10 or better).
+    /// The crossing time is located to this, s (docs/language.md: 1e-10 or better).
     double time_tolerance = 1e-12;
     /// Zeno: more events than this within one step of the run is an error.
     std::size_t max_events_per_step = 100;

@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// The saddle-point system of a constrained model (lag-format.md, *Constraints*):
+/// The saddle-point system of a constrained model (docs/language.md, *Constraints*):
 ///   M q'' = f + Gᵀλ,   G q'' = γ,
 /// solved through the Schur complement: with u = M⁻¹f and Y = M⁻¹Gᵀ,
 ///   (G Y) λ = γ − G u,   q'' = u + Y λ.

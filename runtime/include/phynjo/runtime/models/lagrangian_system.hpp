@@ -78,7 +78,7 @@ struct LagrangianSystem {
     std::shared_ptr<const void> parameters;
     const std::type_info* parameters_type = nullptr;
 
-    // (v2) Constraints (lag-format.md, *Constraints*), file order; none when n_constraints = 0.
+    // Constraints (docs/language.md, *Constraints*), file order; none when n_constraints = 0.
     std::size_t n_constraints = 0;
     std::vector<std::string> constraint_names;
     /// Per constraint: 1 for holonomic φ(q, t) = 0, 0 for nonholonomic a(q, t)·q' + b(q, t) = 0.
@@ -100,7 +100,7 @@ struct LagrangianSystem {
                        std::span<double> lambda)>
         accelerations_and_multipliers;
 
-    // (v2) Events (lag-format.md, *Events*), file order; none when n_events = 0. Driven by
+    // Events (docs/language.md, *Events*), file order; none when n_events = 0. Driven by
     // EventMonitor (models/events.hpp).
     std::size_t n_events = 0;
     std::vector<std::string> event_names;
@@ -114,7 +114,7 @@ struct LagrangianSystem {
     /// The resets of event k, every right side evaluated on (q, q') as given, then stored.
     std::function<void(std::size_t k, double t, std::span<double> q, std::span<double> qdot)> apply_event;
 
-    // (v2) Shapes (lag-format.md, *Shapes*), file order; none when n_shapes = 0.
+    // Shapes (docs/language.md, *Shapes*), file order; none when n_shapes = 0.
     std::size_t n_shapes = 0;
     std::vector<std::string> shape_names;
     /// Per shape: 1 for a sphere (3 entries of shape_positions), 0 for a segment (6 entries).
@@ -127,7 +127,7 @@ struct LagrangianSystem {
     /// The spheres' radii, m (they follow the parameters).
     std::function<void(std::span<double> r)> sphere_radii;
 
-    // (v2) Exact Jacobians (generated code provides them; may be empty for a hand-made system).
+    // Exact Jacobians (generated code provides them; may be empty for a hand-made system).
     /// ∂y'/∂y of y = (q, q'), y' = (q', q''): (2·dof)×(2·dof), row-major.
     std::function<void(double t, std::span<const double> q, std::span<const double> qdot, std::span<double> J)>
         rhs_jacobian;
