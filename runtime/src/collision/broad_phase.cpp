@@ -1,5 +1,4 @@
 #include "phynjo/runtime/collision/broad_phase.hpp"
-#include "phynjo/runtime/collision/collision_manager.hpp"
 
 #include <algorithm>
 #include <cmath>
