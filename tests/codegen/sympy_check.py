@@ -25,7 +25,7 @@ except ImportError:
 
 t = sp.Symbol('t')
 
-# The functions of docs/language.md (v1 and v2) as SymPy's own: abs and sign are SymPy's Abs and
+# The functions of docs/language.md as SymPy's own: abs and sign are SymPy's Abs and
 # sign, atan2(y, x) is SymPy's atan2 (the same argument order).
 FUNCTIONS = dict(sin=sp.sin, cos=sp.cos, tan=sp.tan, exp=sp.exp, log=sp.log, sqrt=sp.sqrt,
                  asin=sp.asin, acos=sp.acos, atan=sp.atan, atan2=sp.atan2, sinh=sp.sinh, cosh=sp.cosh,

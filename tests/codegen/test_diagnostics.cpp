@@ -234,7 +234,7 @@ TEST_CASE("lag diagnostics: shapes", "[codegen][diagnostics][shapes]") {
 
 // Bugs caught: a dimension check that stops at the first error of a file, misses a term of
 // L, reads `1/2 [N/m]` as 1/(2 N/m), points at the whole statement instead of the term,
-// names the wrong dimension, or checks files without units (every v1 file must compile).
+// names the wrong dimension, or checks files without units (a file without units must compile as it is).
 TEST_CASE("lag diagnostics: units and dimensions", "[codegen][diagnostics][units]") {
     CHECK(diagnose("coordinates x [m]\nparameters m = 2 [kg], k = 1/2 [N/m]\nlagrangian 1/2*m*x'^2 - 1/2*k*x^2 - m*x\n") ==
           "m.lag:3:37: error: a term of the Lagrangian is not an energy: expected J = kg*m^2/s^2, found kg*m\n"

@@ -1,4 +1,4 @@
-// Shapes (docs/language.md v2, *Shapes*; docs/generated-code.md): the generated shape_positions
+// Shapes (docs/language.md, *Shapes*; docs/generated-code.md): the generated shape_positions
 // against the model's kinematics written out by hand, sphere_jacobians against central
 // differences of shape_positions, the radii, the names and kinds.
 #include "shapes.hpp"
