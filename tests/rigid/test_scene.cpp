@@ -69,7 +69,7 @@ TEST_CASE("a pendulum bob striking a resting sphere head-on: the textbook split 
         contacts_once(sc, elastic(e), 1e-3, o);
         const double v1 = (m1 - e * m2) * v / (m1 + m2), v2 = (1 + e) * m1 * v / (m1 + m2);
         CHECK(model_qdot(sc, 0)[0] == Approx(v1).margin(1e-12));
-        CHECK(velocity(sc.world, 0).x() == Approx .margin(1e-12));
+        CHECK(velocity(sc.world, 0).x() == Approx(v2).margin(1e-12));
         CHECK(std::abs(velocity(sc.world, 0).y()) < 1e-12);
         // The proxy follows the model: its velocity is l θ' along x.
         CHECK(velocity(sc.world, sc.models[0].spheres[0]).x() == Approx(v1).margin(1e-12));
