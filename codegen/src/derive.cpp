@@ -232,10 +232,9 @@ std::optional<EquationsOfMotion> derive_impl(const Model& model, grammar::Diagno
             if (*bad == 0)
                 what = "constraint '" + c.name + "' does not restrict the motion: its row of the constraint matrix G is zero";
             else if (twin && !twin->d.is_zero()) {
-                const Expr c_ = twin->c;
                 what = "constraint '" + c.name + "' is inconsistent with constraint '" + model.constraints[twin->j].name +
                        "': (" + cas::to_string(eom.residuals[*bad]) + ") - " +
-                       (c_.is_one() ? std::string() : "(" + cas::to_string(c_) + ")*") + "(" +
+                       (twin->c.is_one() ? std::string() : "(" + cas::to_string(twin->c) + ")*") + "(" +
                        cas::to_string(eom.residuals[twin->j]) + ") = " + cas::to_string(twin->d) +
                        ", a constant that is not zero: no state satisfies both";
             }
