@@ -14,7 +14,7 @@
 //
 // Usage: bench_ensemble [N]   (N × N grid, default 40)
 #include "bench_flip.hpp"
-#include "phynjo/runtime/models/ensemble.hpp"
+#include "phynjo/runtime/simulate/ensemble.hpp"
 
 #include <array>
 #include <chrono>

@@ -17,7 +17,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (model) {
         if (auto eom = phynjo::codegen::derive(*model, sink)) {
             try {
-                (void)phynjo::codegen::emit_cpp(*model, *eom, {.header_name = "fuzz.hpp", .main = true});
+                (void)phynjo::codegen::emit_cpp(*model, phynjo::codegen::optimize(*model, *eom), {.header_name = "fuzz.hpp", .main = true});
                 (void)phynjo::codegen::emit_eom(*model, *eom);
                 (void)phynjo::codegen::emit_latex(*model, *eom);
             } catch (const phynjo::cas::LimitError&) {

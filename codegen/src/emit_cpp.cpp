@@ -11,21 +11,17 @@ namespace phynjo::codegen {
 
 namespace {
 
-/// The model's function definitions (each ends with a line "}") spread over `parts` files:
-/// nothing moves below `threshold` bytes; above it the largest first, each to the least-loaded
-/// file (file 0 counts its glue as a small function), then each file in the original order.
-std::vector<std::string> split_functions(const std::string& text, std::size_t parts, std::size_t threshold) {
+/// The model's functions (units of whole functions, emit_detail.hpp's Definitions) spread
+/// over `parts` files: nothing moves below `threshold` bytes; above it the largest first, each
+/// to the least-loaded file (file 0 counts its glue as a small function), then each file in
+/// the original order.
+std::vector<std::string> split_functions(const std::vector<std::string>& fns, std::size_t parts, std::size_t threshold) {
     std::vector<std::string> bins(parts);
-    if (parts == 1 || text.size() < threshold) {
-        bins[0] = text;
+    std::size_t size = 0;
+    for (const std::string& f : fns) size += f.size();
+    if (parts == 1 || size < threshold) {
+        for (const std::string& f : fns) bins[0] += f;
         return bins;
-    }
-    std::vector<std::string> fns;
-    for (std::size_t at = 0; at < text.size();) {
-        std::size_t end = text.find("\n}\n", at);
-        end = end == std::string::npos ? text.size() : end + 3;
-        fns.push_back(text.substr(at, end - at));
-        at = end;
     }
     std::vector<std::size_t> order(fns.size()), where(fns.size());
     for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
@@ -41,37 +37,13 @@ std::vector<std::string> split_functions(const std::string& text, std::size_t pa
     return bins;
 }
 
-/// Every expression of `vs` in Horner form, from one pass that shares the work on common
-/// subexpressions.
-void horner_in_place(std::initializer_list<std::vector<cas::Expr>*> vs) {
-    using cas::Expr;
-    std::vector<Expr> all;
-    for (auto* v : vs) all.insert(all.end(), v->begin(), v->end());
-    const auto h = cas::horner(all);
-    std::size_t k = 0;
-    for (auto* v : vs)
-        for (Expr& e : *v) e = h[k++];
-}
-
 } // namespace
 
-EmittedCpp emit_cpp(const Model& m, const EquationsOfMotion& raw, const EmitOptions& options) {
+EmittedCpp emit_cpp(const Model& m, const OptimizedEquations& opt, const EmitOptions& options) {
     using namespace detail;
-    // Horner form (common factors out of sums) of everything, in one pass that shares the
-    // work on common subexpressions; each function body is then CSE'd. Together: fewer
-    // operations than SymPy's cse on the same system (bench/RESULTS.md).
-    EquationsOfMotion eom = raw;
-    std::vector<Expr> energy{eom.energy};
-    horner_in_place({&eom.mass_matrix, &eom.forcing, &eom.momenta, &eom.generalized_forces, &eom.constraint_matrix,
-                     &eom.gamma, &eom.residuals, &eom.velocity_residuals, &energy});
-    eom.energy = energy[0];
-    derive_jacobians(m, eom);
-    // the derivatives of the Horner forms, in Horner form again: nlink_cart(40)'s
-    // canonical_jacobian 1.11 → 0.59 MB of C++, rhs_jacobian 0.61 → 0.57 MB
-    horner_in_place({&eom.jacobian_r, &eom.jacobian_c, &eom.input_r, &eom.input_c, &eom.momenta_jacobian,
-                     &eom.force_jacobian});
+    const EquationsOfMotion& eom = opt.eom;
     EmittedCpp out;
-    out.header = emit_header(m, raw.mass_depends_on_velocities);
+    out.header = emit_header(m, eom.mass_depends_on_velocities);
     // what every source file starts with: the includes and the helpers (unused ones allowed)
     auto preamble = [&](bool with_glue, bool with_main) {
         std::ostringstream s;
@@ -81,7 +53,7 @@ EmittedCpp emit_cpp(const Model& m, const EquationsOfMotion& raw, const EmitOpti
         if (!with_glue) s << "#undef PHYNJO_GENERATED_FUNCTIONS_ONLY\n";
         s << "\n#include <algorithm>\n#include <cmath>\n#include <stdexcept>\n#include <string>\n";
         if (with_main)
-            s << "\n#include \"phynjo/runtime/models/model_main.hpp\"\n"
+            s << "\n#include \"phynjo/runtime/simulate/model_main.hpp\"\n"
               << "#ifdef PHYNJO_MPI\n#include \"phynjo/mpi/mpi_sweep.hpp\"\n#endif\n";
         s << "\nnamespace " << m.name << " {\n\nnamespace {\n"
           << "[[noreturn, gnu::cold, maybe_unused]] void size_mismatch(std::size_t size, std::size_t n, const char* function,\n"
@@ -99,9 +71,11 @@ EmittedCpp emit_cpp(const Model& m, const EquationsOfMotion& raw, const EmitOpti
     const std::size_t parts = std::max<std::size_t>(options.parts, 1);
     Names names(m);
     names.piece_threshold = std::max<std::size_t>(options.piece_threshold, 1);
-    const auto bins = split_functions(emit_functions(m, eom, names) + emit_jacobians(m, eom, names), parts,
-                                       options.split_threshold);
-    out.source = preamble(true, options.main) + bins[0] + emit_glue(m, raw.mass_depends_on_velocities);
+    Definitions functions;
+    emit_functions(m, opt, names, functions);
+    emit_jacobians(m, eom, names, functions);
+    const auto bins = split_functions(functions.take(), parts, options.split_threshold);
+    out.source = preamble(true, options.main) + bins[0] + emit_glue(m, eom.mass_depends_on_velocities);
     if (options.main) out.source += emit_main(m);
     for (std::size_t k = 1; k < parts; ++k)
         out.parts.push_back(bins[k].empty() ? "// Generated by phynjo-lagc from " + m.source_name +

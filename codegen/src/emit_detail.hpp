@@ -4,10 +4,12 @@
 // glue), emit_main.cpp (main); emit_cpp.cpp assembles them. Here: how model variables are
 // named in generated code, and straight-line bodies from one CSE pass.
 #include "phynjo/codegen/emit.hpp"
+#include "phynjo/codegen/optimize.hpp"
 
 #include "phynjo/cas/cas.hpp"
 
 #include <algorithm>
+#include <sstream>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -75,15 +77,15 @@ private:
 };
 
 /// Straight-line code computing `outputs`: returns the statements, and the C++ expression of
-/// each output in `results`. `outputs` are already in Horner form (emit_cpp converts every
-/// expression once). `generic`: for a function template over the number type T (double, or
+/// each output in `results`. `outputs` are already in Horner form (the optimize step,
+/// optimize.hpp). `generic`: for a function template over the number type T (double, or
 /// lanes of runs): temporaries `const auto`, math through lanes.hpp, outputs of type T.
 std::string body(const Names& names, const std::vector<Expr>& outputs, std::vector<std::string>& results,
                  bool& uses_t, bool& uses_params, bool generic = false);
 /// True when generated code has rk4_step_values_lanes (phynjo extension): no constraints, and
 /// M solved in closed form (one or two coordinates).
 inline bool has_lane_kernel(const Model& m) { return m.constraints.empty() && m.dof() <= 2; }
-/// The C++ namespace of generic bodies' math functions (runtime/models/lanes.hpp).
+/// The C++ namespace of generic bodies' math functions (runtime/system/detail/lanes.hpp).
 inline constexpr const char* kLanes = "phynjo::runtime::lanes::";
 
 /// The same, split in two: `early` computes what does not depend on any of `late_variables`
@@ -117,17 +119,48 @@ bool is_diagonal(const std::vector<Expr>& mass_matrix, std::size_t n);
 std::string diagonal_mass(const std::vector<std::string>& diagonal, const std::string& failure);
 
 
+/// The generated functions as the units `--parts` may place in different files: a unit ends
+/// with the closing line "}" of a function, or of the last of a group that must share a file
+/// (those before it close with "} // (one file with …)"); the blank line after it begins the
+/// next unit.
+class Definitions {
+public:
+    template <class T>
+    Definitions& operator<<(const T& text) {
+        current_ << text;
+        return *this;
+    }
+    /// Closes the function being written with the line "}" and ends its unit.
+    void close() {
+        current_ << "}\n";
+        units_.push_back(current_.str());
+        current_.str("");
+    }
+    /// The units in order (text after the last close() is the last unit).
+    std::vector<std::string> take() {
+        if (!current_.str().empty()) units_.push_back(current_.str());
+        current_.str("");
+        return std::move(units_);
+    }
+
+private:
+    std::ostringstream current_;
+    std::vector<std::string> units_;
+};
+
 /// `(void)t;` and `(void)P;` for what a body does not use.
 std::string unused(bool uses_t, bool uses_params, bool has_t = true);
 
-/// rhs_jacobian and input_jacobian (docs/generated-code.md) from the Jacobian part of `eom`.
-std::string emit_jacobians(const Model& m, const EquationsOfMotion& eom, Names names);
+/// rhs_jacobian, input_jacobian and canonical_jacobian (docs/generated-code.md) from the
+/// Jacobian part of `eom`, appended to `out`.
+void emit_jacobians(const Model& m, const EquationsOfMotion& eom, Names names, Definitions& out);
 
 /// The generated header: parameters, every declaration of docs/generated-code.md.
 std::string emit_header(const Model& m, bool mass_depends_on_velocities);
 /// The model's functions (mass_matrix, forcing, momenta, generalized_forces, accelerations,
-/// energy, initial_state), from `eom` in Horner form.
-std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const Names& names);
+/// energy, the constrained ones, events, shapes, initial_state), printed from the optimize
+/// step's forms.
+void emit_functions(const Model& m, const OptimizedEquations& opt, const Names& names, Definitions& out);
 /// `param_NAME(P)` for each parameter defined from others: its assigned value, or its
 /// definition at the current values of the parameters it is defined from.
 std::string emit_derived_parameters(const Model& m);

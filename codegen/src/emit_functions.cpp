@@ -28,150 +28,198 @@ std::string diagonal_mass(const std::vector<std::string>& diagonal, const std::s
     return s.str();
 }
 
-std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const Names& names) {
+namespace {
+
+/// The model's functions printed in file order, one step per group of them: the context the
+/// steps share (the model, the optimize step's forms, the names, the output) and the results
+/// of the last body (`res`, `uses_t`, `uses_p`).
+struct FunctionPrinter {
+    const Model& m;
+    const OptimizedEquations& opt;
+    const EquationsOfMotion& eom;
+    const Names& names;
+    Definitions& s;
     const std::string L = kLanes;
-    const std::size_t n = m.dof();
-    std::ostringstream s;
+    const std::size_t n, mc, ne;
+    /// The closing comment of the functions that share a file with accelerations_energy_guards
+    /// (cores): the group is one unit of Definitions.
+    const std::string glue = " // (one file with accelerations_energy_guards)\n";
     std::vector<std::string> res;
     bool uses_t = false, uses_p = false;
-    auto sizes = [&](const char* fn, std::initializer_list<std::pair<const char*, std::size_t>> arrays) {
+    /// The upper triangle of M, row by row, and each entry's (i, j).
+    std::vector<Expr> upper;
+    std::vector<std::pair<std::size_t, std::size_t>> upper_ij;
+
+    FunctionPrinter(const Model& model, const OptimizedEquations& o, const Names& nm, Definitions& out)
+        : m(model), opt(o), eom(o.eom), names(nm), s(out), n(model.dof()), mc(o.eom.n_constraints),
+          ne(model.events.size()) {
+        for (std::size_t i = 0; i < n; ++i)
+            for (std::size_t j = i; j < n; ++j) {
+                upper.push_back(eom.mass_matrix[i * n + j]);
+                upper_ij.emplace_back(i, j);
+            }
+    }
+
+    std::string sizes(const char* fn, std::initializer_list<std::pair<const char*, std::size_t>> arrays) const {
         std::string c;
         for (const auto& [name, len] : arrays)
             c += "    check_size(" + std::string(name) + ", " + std::to_string(len) + ", \"" + fn + "\", \"" + name + "\");\n";
         return c;
-    };
-    // A function with nothing to compute (no constraints, no events, no shapes): its sizes
-    // checked, its output empty. `with_qdot`: it takes q' too.
-    auto empty = [&](const char* fn, bool with_qdot, const char* out) {
+    }
+    /// A function with nothing to compute (no constraints, no events, no shapes): its sizes
+    /// checked, its output empty. `with_qdot`: it takes q' too.
+    void empty(const char* fn, bool with_qdot, const char* out) {
         s << "void " << fn << "(const Parameters& P, double t, std::span<const double> q, "
           << (with_qdot ? "std::span<const double> qdot,\n    " : "") << "std::span<double> " << out << ") {\n"
           << (with_qdot ? sizes(fn, {{"q", n}, {"qdot", n}, {out, 0}}) : sizes(fn, {{"q", n}, {out, 0}}))
-          << "    (void)P;\n    (void)t;\n}\n\n";
-    };
-    // upper triangle of M
-    std::vector<Expr> upper;
-    std::vector<std::pair<std::size_t, std::size_t>> upper_ij;
-    for (std::size_t i = 0; i < n; ++i)
-        for (std::size_t j = i; j < n; ++j) {
-            upper.push_back(eom.mass_matrix[i * n + j]);
-            upper_ij.emplace_back(i, j);
-        }
-
-    // mass_matrix
-    {
-        const std::string b = body(names, upper, res, uses_t, uses_p);
-        if (eom.mass_depends_on_velocities)
-            s << "void mass_matrix(const Parameters& P, double t, std::span<const double> q, std::span<const double> qdot,\n"
-              << "                 std::span<double> M) {\n"
-              << sizes("mass_matrix", {{"q", n}, {"qdot", n}, {"M", n * n}}) << unused(uses_t, uses_p) << b;
-        else
-            s << "void mass_matrix(const Parameters& P, double t, std::span<const double> q, std::span<double> M) {\n"
-              << sizes("mass_matrix", {{"q", n}, {"M", n * n}}) << unused(uses_t, uses_p) << b;
-        for (std::size_t k = 0; k < upper.size(); ++k) {
-            const auto [i, j] = upper_ij[k];
-            s << "    M[" << i * n + j << "] = " << res[k] << ";\n";
-            if (i != j) s << "    M[" << j * n + i << "] = M[" << i * n + j << "];\n";
-        }
-        s << "}\n\n";
+          << "    (void)P;\n    (void)t;\n";
+        s.close();
+        s << "\n";
     }
-    // vector-valued functions of (q, qdot)
+    /// M_ij (either triangle) among the results of a body whose first outputs are `upper`.
+    const std::string& Mij(std::size_t i, std::size_t j) const { return res[upper_index(i, j, n)]; }
+
+    void mass_matrix();
+    void vector_functions();
+    void constrained();
+    void constraint_stubs();
+    void cores();
+    void lane_kernels();
+    void apply_event();
+    void shapes();
+    void initial_state();
+};
+
+/// mass_matrix: the upper triangle from one CSE pass, mirrored.
+void FunctionPrinter::mass_matrix() {
+    const std::string b = body(names, upper, res, uses_t, uses_p);
+    if (eom.mass_depends_on_velocities)
+        s << "void mass_matrix(const Parameters& P, double t, std::span<const double> q, std::span<const double> qdot,\n"
+          << "                 std::span<double> M) {\n"
+          << sizes("mass_matrix", {{"q", n}, {"qdot", n}, {"M", n * n}}) << unused(uses_t, uses_p) << b;
+    else
+        s << "void mass_matrix(const Parameters& P, double t, std::span<const double> q, std::span<double> M) {\n"
+          << sizes("mass_matrix", {{"q", n}, {"M", n * n}}) << unused(uses_t, uses_p) << b;
+    for (std::size_t k = 0; k < upper.size(); ++k) {
+        const auto [i, j] = upper_ij[k];
+        s << "    M[" << i * n + j << "] = " << res[k] << ";\n";
+        if (i != j) s << "    M[" << j * n + i << "] = M[" << i * n + j << "];\n";
+    }
+    s.close();
+    s << "\n";
+}
+
+/// forcing, momenta, generalized_forces: vector-valued functions of (q, qdot).
+void FunctionPrinter::vector_functions() {
     auto vector_function = [&](const char* fn, const char* out_name, const std::vector<Expr>& exprs) {
         const std::string b = body(names, exprs, res, uses_t, uses_p);
         s << "void " << fn << "(const Parameters& P, double t, std::span<const double> q, std::span<const double> qdot,\n"
           << "    std::span<double> " << out_name << ") {\n"
           << sizes(fn, {{"q", n}, {"qdot", n}, {out_name, n}}) << unused(uses_t, uses_p) << b;
         for (std::size_t i = 0; i < n; ++i) s << "    " << out_name << "[" << i << "] = " << res[i] << ";\n";
-        s << "}\n\n";
+        s.close();
+        s << "\n";
     };
     vector_function("forcing", "f", eom.forcing);
     vector_function("momenta", "p", eom.momenta);
     vector_function("generalized_forces", "F", eom.generalized_forces);
+}
 
-    // M_ij (either triangle) among the results of a body whose first outputs are `upper`
-    auto Mij = [&](std::size_t i, std::size_t j) { return res[upper_index(i, j, n)]; };
-    const std::size_t mc = eom.n_constraints;
-    if (mc > 0) {
-        // accelerations_and_multipliers: M, f, G and γ from one CSE pass, then the KKT solve
-        std::vector<Expr> all = upper;
-        all.insert(all.end(), eom.forcing.begin(), eom.forcing.end());
-        all.insert(all.end(), eom.constraint_matrix.begin(), eom.constraint_matrix.end());
-        all.insert(all.end(), eom.gamma.begin(), eom.gamma.end());
-        const std::string b = body(names, all, res, uses_t, uses_p);
-        const std::size_t off_f = upper.size(), off_g = off_f + n, off_gamma = off_g + mc * n;
-        s << "void accelerations_and_multipliers(const Parameters& P, double t, std::span<const double> q,\n"
-          << "                                   std::span<const double> qdot, std::span<double> qddot,\n"
-          << "                                   std::span<double> lambda) {\n"
-          << sizes("accelerations_and_multipliers", {{"q", n}, {"qdot", n}, {"qddot", n}, {"lambda", mc}})
-          << unused(true, uses_p) << b;
-        s << "    const double M[" << n * n << "] = {";
-        for (std::size_t i = 0; i < n; ++i)
-            for (std::size_t j = 0; j < n; ++j) s << (i || j ? ", " : "") << (j <= i ? Mij(i, j) : "0.0");
-        s << "};\n    const double f[" << n << "] = {";
-        for (std::size_t i = 0; i < n; ++i) s << (i ? ", " : "") << res[off_f + i];
-        s << "};\n    const double G[" << mc * n << "] = {";
-        for (std::size_t k = 0; k < mc * n; ++k) s << (k ? ", " : "") << res[off_g + k];
-        s << "};\n    const double gamma[" << mc << "] = {";
-        for (std::size_t k = 0; k < mc; ++k) s << (k ? ", " : "") << res[off_gamma + k];
-        s << "};\n    phynjo::runtime::solve_constrained<" << n << ", " << mc
-          << ">(M, f, G, gamma, qddot, lambda, constraint_names, \"" << m.name
-          << "::accelerations_and_multipliers\", t);\n}\n\n";
-        s << "void accelerations(const Parameters& P, double t, std::span<const double> q, std::span<const double> qdot,\n"
-          << "                   std::span<double> qddot) {\n"
-          << "    double lambda[" << mc << "];\n"
-          << "    accelerations_and_multipliers(P, t, q, qdot, qddot, lambda);\n}\n\n";
-        // constraint_residuals, constraint_velocity_residuals, constraint_matrix
-        auto rows = [&](const char* fn, const char* out, const std::vector<Expr>& exprs, bool with_qdot) {
-            const std::string bb = body(names, exprs, res, uses_t, uses_p);
-            s << "void " << fn << "(const Parameters& P, double t, std::span<const double> q, "
-              << (with_qdot ? "std::span<const double> qdot,\n    " : "") << "std::span<double> " << out << ") {\n"
-              << (with_qdot ? sizes(fn, {{"q", n}, {"qdot", n}, {out, exprs.size()}}) : sizes(fn, {{"q", n}, {out, exprs.size()}}))
-              << unused(uses_t, uses_p) << bb;
-            for (std::size_t k = 0; k < exprs.size(); ++k) s << "    " << out << "[" << k << "] = " << res[k] << ";\n";
-            s << "}\n\n";
-        };
-        rows("constraint_residuals", "phi", eom.residuals, true);
-        rows("constraint_velocity_residuals", "psi", eom.velocity_residuals, true);
-        rows("constraint_matrix", "G", eom.constraint_matrix, false);
-        rows("constraint_gamma", "gamma", eom.gamma, true);
-        {
-            // constraint_scales: Σ|summand| of each φ_k, then of each velocity constraint
-            std::vector<Expr> terms;
-            std::vector<std::size_t> count;
-            for (const auto* v : {&eom.residual_terms, &eom.velocity_residual_terms})
-                for (const auto& ts : *v) {
-                    terms.insert(terms.end(), ts.begin(), ts.end());
-                    count.push_back(ts.size());
-                }
-            const std::string bb = body(names, terms, res, uses_t, uses_p);
-            s << "void constraint_scales(const Parameters& P, double t, std::span<const double> q, std::span<const double> qdot,\n"
-              << "    std::span<double> scale) {\n"
-              << sizes("constraint_scales", {{"q", n}, {"qdot", n}, {"scale", 2 * mc}}) << unused(uses_t, uses_p) << bb;
-            std::size_t k = 0;
-            for (std::size_t r = 0; r < count.size(); ++r) {
-                s << "    scale[" << r << "] = ";
-                for (std::size_t j = 0; j < count[r]; ++j) s << (j ? " + " : "") << "std::fabs(" << res[k++] << ")";
-                s << ";\n";
+/// With constraints: accelerations_and_multipliers (M, f, G and γ from one CSE pass, then
+/// the KKT solve), accelerations, the residuals, G, γ and the scales.
+void FunctionPrinter::constrained() {
+    // accelerations_and_multipliers: M, f, G and γ from one CSE pass, then the KKT solve
+    std::vector<Expr> all = upper;
+    all.insert(all.end(), eom.forcing.begin(), eom.forcing.end());
+    all.insert(all.end(), eom.constraint_matrix.begin(), eom.constraint_matrix.end());
+    all.insert(all.end(), eom.gamma.begin(), eom.gamma.end());
+    const std::string b = body(names, all, res, uses_t, uses_p);
+    const std::size_t off_f = upper.size(), off_g = off_f + n, off_gamma = off_g + mc * n;
+    s << "void accelerations_and_multipliers(const Parameters& P, double t, std::span<const double> q,\n"
+      << "                                   std::span<const double> qdot, std::span<double> qddot,\n"
+      << "                                   std::span<double> lambda) {\n"
+      << sizes("accelerations_and_multipliers", {{"q", n}, {"qdot", n}, {"qddot", n}, {"lambda", mc}})
+      << unused(true, uses_p) << b;
+    s << "    const double M[" << n * n << "] = {";
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t j = 0; j < n; ++j) s << (i || j ? ", " : "") << (j <= i ? Mij(i, j) : "0.0");
+    s << "};\n    const double f[" << n << "] = {";
+    for (std::size_t i = 0; i < n; ++i) s << (i ? ", " : "") << res[off_f + i];
+    s << "};\n    const double G[" << mc * n << "] = {";
+    for (std::size_t k = 0; k < mc * n; ++k) s << (k ? ", " : "") << res[off_g + k];
+    s << "};\n    const double gamma[" << mc << "] = {";
+    for (std::size_t k = 0; k < mc; ++k) s << (k ? ", " : "") << res[off_gamma + k];
+    s << "};\n    phynjo::runtime::solve_constrained<" << n << ", " << mc
+      << ">(M, f, G, gamma, qddot, lambda, constraint_names, \"" << m.name
+      << "::accelerations_and_multipliers\", t);\n";
+    s.close();
+    s << "\n";
+    s << "void accelerations(const Parameters& P, double t, std::span<const double> q, std::span<const double> qdot,\n"
+      << "                   std::span<double> qddot) {\n"
+      << "    double lambda[" << mc << "];\n"
+      << "    accelerations_and_multipliers(P, t, q, qdot, qddot, lambda);\n";
+    s.close();
+    s << "\n";
+    // constraint_residuals, constraint_velocity_residuals, constraint_matrix
+    auto rows = [&](const char* fn, const char* out, const std::vector<Expr>& exprs, bool with_qdot) {
+        const std::string bb = body(names, exprs, res, uses_t, uses_p);
+        s << "void " << fn << "(const Parameters& P, double t, std::span<const double> q, "
+          << (with_qdot ? "std::span<const double> qdot,\n    " : "") << "std::span<double> " << out << ") {\n"
+          << (with_qdot ? sizes(fn, {{"q", n}, {"qdot", n}, {out, exprs.size()}}) : sizes(fn, {{"q", n}, {out, exprs.size()}}))
+          << unused(uses_t, uses_p) << bb;
+        for (std::size_t k = 0; k < exprs.size(); ++k) s << "    " << out << "[" << k << "] = " << res[k] << ";\n";
+        s.close();
+        s << "\n";
+    };
+    rows("constraint_residuals", "phi", eom.residuals, true);
+    rows("constraint_velocity_residuals", "psi", eom.velocity_residuals, true);
+    rows("constraint_matrix", "G", eom.constraint_matrix, false);
+    rows("constraint_gamma", "gamma", eom.gamma, true);
+    {
+        // constraint_scales: Σ|summand| of each φ_k, then of each velocity constraint
+        std::vector<Expr> terms;
+        std::vector<std::size_t> count;
+        for (const auto* v : {&eom.residual_terms, &eom.velocity_residual_terms})
+            for (const auto& ts : *v) {
+                terms.insert(terms.end(), ts.begin(), ts.end());
+                count.push_back(ts.size());
             }
-            s << "}\n\n";
+        const std::string bb = body(names, terms, res, uses_t, uses_p);
+        s << "void constraint_scales(const Parameters& P, double t, std::span<const double> q, std::span<const double> qdot,\n"
+          << "    std::span<double> scale) {\n"
+          << sizes("constraint_scales", {{"q", n}, {"qdot", n}, {"scale", 2 * mc}}) << unused(uses_t, uses_p) << bb;
+        std::size_t k = 0;
+        for (std::size_t r = 0; r < count.size(); ++r) {
+            s << "    scale[" << r << "] = ";
+            for (std::size_t j = 0; j < count[r]; ++j) s << (j ? " + " : "") << "std::fabs(" << res[k++] << ")";
+            s << ";\n";
         }
-    } else {
-        s << "void accelerations_and_multipliers(const Parameters& P, double t, std::span<const double> q,\n"
-          << "                                   std::span<const double> qdot, std::span<double> qddot,\n"
-          << "                                   std::span<double> lambda) {\n"
-          << sizes("accelerations_and_multipliers", {{"lambda", 0}}) << "    accelerations(P, t, q, qdot, qddot);\n}\n\n";
-        for (const char* fn : {"constraint_residuals", "constraint_velocity_residuals", "constraint_scales", "constraint_gamma"})
-            empty(fn, true, "out");
-        empty("constraint_matrix", false, "G");
+        s.close();
+        s << "\n";
     }
-    // accelerations, event_guards, energy, rk4_step and accelerations_energy_guards: one group
-    // of split_functions (each closing line but the last carries a comment, so they stay in
-    // one file), over static inline cores of the arithmetic (accelerations_core, guards_core,
-    // energy_core). rk4_step calls accelerations_core for its stages (no std::function, no
-    // size checks between them); accelerations_energy_guards calls the three cores, whose
-    // sines and cosines the compiler computes once (sincos) when it inlines them. Each output's
-    // expression is the public function's own: the same bits.
-    const std::size_t ne = m.events.size();
-    const std::string glue = " // (one file with accelerations_energy_guards)\n";
+}
+
+/// Without constraints: accelerations_and_multipliers over accelerations, empty constraint
+/// functions.
+void FunctionPrinter::constraint_stubs() {
+    s << "void accelerations_and_multipliers(const Parameters& P, double t, std::span<const double> q,\n"
+      << "                                   std::span<const double> qdot, std::span<double> qddot,\n"
+      << "                                   std::span<double> lambda) {\n"
+      << sizes("accelerations_and_multipliers", {{"lambda", 0}}) << "    accelerations(P, t, q, qdot, qddot);\n";
+    s.close();
+    s << "\n";
+    for (const char* fn : {"constraint_residuals", "constraint_velocity_residuals", "constraint_scales", "constraint_gamma"})
+        empty(fn, true, "out");
+    empty("constraint_matrix", false, "G");
+}
+/// accelerations, event_guards, energy, rk4_step, accelerations_energy_guards and
+/// rk4_step_values: one unit of Definitions, closed once at its end (the closing lines before
+/// carry a comment saying so), over static inline cores of the arithmetic
+/// (accelerations_core, guards_core, energy_core). rk4_step calls accelerations_core for its
+/// stages (no std::function, no size checks between them); accelerations_energy_guards calls
+/// the three cores, whose sines and cosines the compiler computes once (sincos) when it
+/// inlines them. Each output's expression is the public function's own: the same bits.
+void FunctionPrinter::cores() {
     // The cores' bodies in generic form (`const auto`, lanes.hpp's math, outputs as<T>) only
     // where they are instantiated for lanes too; elsewhere (constraints, three coordinates or
     // more: T is double alone) in plain form, `const double` and std:: — the same bits, and
@@ -229,10 +277,7 @@ std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const N
     }
     {
         // the guards from one CSE pass
-        std::vector<Expr> guards;
-        for (const Event& e : m.events) guards.push_back(e.guard);
-        guards = cas::horner(guards);
-        const std::string b = ne > 0 ? body(names, guards, res, uses_t, uses_p, generic) : std::string();
+        const std::string b = ne > 0 ? body(names, opt.guards, res, uses_t, uses_p, generic) : std::string();
         if (ne == 0) uses_t = uses_p = false;
         s << "template <class T, class PT>\n"
           << "[[maybe_unused]] static inline void guards_core(const PT& P, T t, const T* q, const T* qdot, T* g) {\n"
@@ -313,49 +358,57 @@ std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const N
       << sizes("rk4_step_values", {{"q", n}, {"qdot", n}, {"qddot", n}, {"g", ne}})
       << "    const Parameters p = P;\n"
       << "    rk4_stages(p, t, h, q.data(), qdot.data(), qddot.data());\n"
-      << "    return values_core(p, t1, q.data(), qdot.data(), qddot.data(), E, g.data());\n}"
-      << (has_lane_kernel(m) ? glue : "\n") << "\n";
-    if (has_lane_kernel(m)) {
-        // rk4_step_values for lanes::kWidth runs at once, each with its own parameters: the same
-        // cores instantiated for Lanes and LaneParameters (the preamble's)
-        s << "bool rk4_step_values_lanes_each(const void* const* P, const double* t, const double* h, const double* t1,\n"
-          << "                                double* q, double* qdot, double* qddot, double* E, double* g) {\n"
-          << "    namespace lanes = phynjo::runtime::lanes;\n"
-          << "    constexpr std::size_t W = lanes::kWidth;\n"
-          << "    std::array<lanes::Lanes, " << n << "> x, v, a;\n"
-          << "    std::array<lanes::Lanes, " << ne << "> gl;\n"
-          << "    lanes::Lanes e;\n"
-          << "    for (std::size_t i = 0; i < " << n << "; ++i) {\n"
-          << "        x[i] = lanes::load(q + i * W);\n        v[i] = lanes::load(qdot + i * W);\n"
-          << "        a[i] = lanes::load(qddot + i * W);\n    }\n"
-          << "    const LaneParameters p = lane_parameters(P);\n"
-          << "    rk4_stages(p, lanes::load(t), lanes::load(h), x.data(), v.data(), a.data());\n"
-          << "    const bool ok = values_core(p, lanes::load(t1), x.data(), v.data(), a.data(), e, gl.data());\n"
-          << "    for (std::size_t i = 0; i < " << n << "; ++i) {\n"
-          << "        lanes::store(q + i * W, x[i]);\n        lanes::store(qdot + i * W, v[i]);\n"
-          << "        lanes::store(qddot + i * W, a[i]);\n    }\n"
-          << "    lanes::store(E, e);\n"
-          << (ne > 0 ? "    for (std::size_t k = 0; k < " + std::to_string(ne) + "; ++k) lanes::store(g + k * W, gl[k]);\n"
-                     : std::string("    (void)g;\n"))
-          << "    return ok;\n}" << glue << "\n";
-        s << "bool rk4_step_values_lanes(const Parameters& P, const double* t, const double* h, const double* t1, double* q,\n"
-          << "                           double* qdot, double* qddot, double* E, double* g) {\n"
-          << "    const void* each[phynjo::runtime::lanes::kWidth];\n"
-          << "    for (auto& e : each) e = &P;\n"
-          << "    return rk4_step_values_lanes_each(each, t, h, t1, q, qdot, qddot, E, g);\n}\n\n";
+      << "    return values_core(p, t1, q.data(), qdot.data(), qddot.data(), E, g.data());\n";
+    if (has_lane_kernel(m)) { // the lane kernels below share the cores' file
+        s << "}" << glue << "\n";
+    } else {
+        s.close();
+        s << "\n";
     }
-    // events: apply_event one case per event, every right side read from the
-    // state before any is stored
+}
+
+/// rk4_step_values for lanes::kWidth runs at once, each with its own parameters: the same
+/// cores instantiated for Lanes and LaneParameters (the preamble's).
+void FunctionPrinter::lane_kernels() {
+    s << "bool rk4_step_values_lanes_each(const void* const* P, const double* t, const double* h, const double* t1,\n"
+      << "                                double* q, double* qdot, double* qddot, double* E, double* g) {\n"
+      << "    namespace lanes = phynjo::runtime::lanes;\n"
+      << "    constexpr std::size_t W = lanes::kWidth;\n"
+      << "    std::array<lanes::Lanes, " << n << "> x, v, a;\n"
+      << "    std::array<lanes::Lanes, " << ne << "> gl;\n"
+      << "    lanes::Lanes e;\n"
+      << "    for (std::size_t i = 0; i < " << n << "; ++i) {\n"
+      << "        x[i] = lanes::load(q + i * W);\n        v[i] = lanes::load(qdot + i * W);\n"
+      << "        a[i] = lanes::load(qddot + i * W);\n    }\n"
+      << "    const LaneParameters p = lane_parameters(P);\n"
+      << "    rk4_stages(p, lanes::load(t), lanes::load(h), x.data(), v.data(), a.data());\n"
+      << "    const bool ok = values_core(p, lanes::load(t1), x.data(), v.data(), a.data(), e, gl.data());\n"
+      << "    for (std::size_t i = 0; i < " << n << "; ++i) {\n"
+      << "        lanes::store(q + i * W, x[i]);\n        lanes::store(qdot + i * W, v[i]);\n"
+      << "        lanes::store(qddot + i * W, a[i]);\n    }\n"
+      << "    lanes::store(E, e);\n"
+      << (ne > 0 ? "    for (std::size_t k = 0; k < " + std::to_string(ne) + "; ++k) lanes::store(g + k * W, gl[k]);\n"
+                 : std::string("    (void)g;\n"))
+      << "    return ok;\n}" << glue << "\n";
+    s << "bool rk4_step_values_lanes(const Parameters& P, const double* t, const double* h, const double* t1, double* q,\n"
+      << "                           double* qdot, double* qddot, double* E, double* g) {\n"
+      << "    const void* each[phynjo::runtime::lanes::kWidth];\n"
+      << "    for (auto& e : each) e = &P;\n"
+      << "    return rk4_step_values_lanes_each(each, t, h, t1, q, qdot, qddot, E, g);\n";
+    s.close();
+    s << "\n";
+}
+
+/// apply_event: one case per event, every right side read from the state before any is
+/// stored.
+void FunctionPrinter::apply_event() {
     s << "void apply_event(const Parameters& P, std::size_t k, double t, std::span<double> q, std::span<double> qdot) {\n"
       << sizes("apply_event", {{"q", n}, {"qdot", n}}) << "    (void)P;\n    (void)t;\n    switch (k) {\n";
     for (std::size_t k = 0; k < ne; ++k) {
         const Event& e = m.events[k];
         s << "    case " << k << ": { // " << e.name << (e.stop ? ": stop" : "") << "\n";
         if (!e.resets.empty()) {
-            std::vector<Expr> values;
-            for (const EventReset& r : e.resets) values.push_back(r.value);
-            values = cas::horner(values);
-            std::string b = body(names, values, res, uses_t, uses_p);
+            std::string b = body(names, opt.reset_values[k], res, uses_t, uses_p);
             // the body's lines, indented into the case
             std::string indented;
             for (std::size_t at = 0; at < b.size();) {
@@ -373,53 +426,64 @@ std::string emit_functions(const Model& m, const EquationsOfMotion& eom, const N
     }
     s << "    default: break;\n    }\n"
       << "    throw std::out_of_range(\"" << m.name << "::apply_event: event \" + std::to_string(k) + \" (the model has "
-      << ne << ")\");\n}\n\n";
-    // shapes: the points from one CSE pass; each sphere's ∂(X, Y, Z)/∂q; the
-    // radii (phynjo extension)
-    {
-        std::vector<Expr> points, jac, radii;
-        const auto q = m.coordinate_symbols();
-        for (const Shape& sh : m.shapes) {
-            points.insert(points.end(), sh.points.begin(), sh.points.end());
-            if (sh.kind != Shape::Kind::Sphere) continue;
-            radii.push_back(sh.radius);
-            for (std::size_t a = 0; a < 3; ++a)
-                for (std::size_t i = 0; i < n; ++i) jac.push_back(cas::diff(sh.points[a], q[i]));
-        }
-        // a function of (P, t, q) filling `out` from `exprs` (one CSE pass), or its empty stub
-        auto of_q = [&](const char* fn, const char* out, const std::vector<Expr>& exprs) {
-            if (exprs.empty()) return empty(fn, false, out);
-            const std::string b = body(names, cas::horner(exprs), res, uses_t, uses_p);
-            s << "void " << fn << "(const Parameters& P, double t, std::span<const double> q, std::span<double> " << out
-              << ") {\n"
-              << sizes(fn, {{"q", n}, {out, exprs.size()}}) << unused(uses_t, uses_p) << b;
-            for (std::size_t k = 0; k < exprs.size(); ++k) s << "    " << out << "[" << k << "] = " << res[k] << ";\n";
-            s << "}\n\n";
-        };
-        of_q("shape_positions", "X", points);
-        of_q("sphere_jacobians", "J", jac);
-        s << "void sphere_radii(const Parameters& P, std::span<double> r) {\n"
-          << "    check_size(r, " << radii.size() << ", \"sphere_radii\", \"r\");\n";
-        if (radii.empty()) s << "    (void)P;\n";
-        else {
-            const std::string b = body(names, radii, res, uses_t, uses_p);
-            s << unused(uses_t, uses_p, false) << b;
-            for (std::size_t k = 0; k < radii.size(); ++k) s << "    r[" << k << "] = " << res[k] << ";\n";
-        }
-        s << "}\n\n";
+      << ne << ")\");\n";
+        s.close();
+        s << "\n";
+}
+
+/// The shapes' points from one CSE pass; each sphere's ∂(X, Y, Z)/∂q; the radii (phynjo
+/// extension).
+void FunctionPrinter::shapes() {
+    const std::vector<Expr>& radii = opt.sphere_radii;
+    // a function of (P, t, q) filling `out` from `exprs` (one CSE pass), or its empty stub
+    auto of_q = [&](const char* fn, const char* out, const std::vector<Expr>& exprs) {
+        if (exprs.empty()) return empty(fn, false, out);
+        const std::string b = body(names, exprs, res, uses_t, uses_p);
+        s << "void " << fn << "(const Parameters& P, double t, std::span<const double> q, std::span<double> " << out
+          << ") {\n"
+          << sizes(fn, {{"q", n}, {out, exprs.size()}}) << unused(uses_t, uses_p) << b;
+        for (std::size_t k = 0; k < exprs.size(); ++k) s << "    " << out << "[" << k << "] = " << res[k] << ";\n";
+        s.close();
+        s << "\n";
+    };
+    of_q("shape_positions", "X", opt.shape_points);
+    of_q("sphere_jacobians", "J", opt.sphere_jacobians);
+    s << "void sphere_radii(const Parameters& P, std::span<double> r) {\n"
+      << "    check_size(r, " << radii.size() << ", \"sphere_radii\", \"r\");\n";
+    if (radii.empty()) s << "    (void)P;\n";
+    else {
+        const std::string b = body(names, radii, res, uses_t, uses_p);
+        s << unused(uses_t, uses_p, false) << b;
+        for (std::size_t k = 0; k < radii.size(); ++k) s << "    r[" << k << "] = " << res[k] << ";\n";
     }
-    // initial_state
-    {
-        std::vector<Expr> init = m.initial_q;
-        init.insert(init.end(), m.initial_qdot.begin(), m.initial_qdot.end());
-        const std::string b = body(names, init, res, uses_t, uses_p);
-        s << "void initial_state(const Parameters& P, std::span<double> q, std::span<double> qdot) {\n"
-          << sizes("initial_state", {{"q", n}, {"qdot", n}}) << unused(uses_t, uses_p, false) << b;
-        for (std::size_t i = 0; i < n; ++i) s << "    q[" << i << "] = " << res[i] << ";\n";
-        for (std::size_t i = 0; i < n; ++i) s << "    qdot[" << i << "] = " << res[n + i] << ";\n";
-        s << "}\n\n";
-    }
-    return s.str();
+    s.close();
+    s << "\n";
+}
+
+/// initial_state: the initial values from one CSE pass.
+void FunctionPrinter::initial_state() {
+    const std::string b = body(names, opt.initial_values, res, uses_t, uses_p);
+    s << "void initial_state(const Parameters& P, std::span<double> q, std::span<double> qdot) {\n"
+      << sizes("initial_state", {{"q", n}, {"qdot", n}}) << unused(uses_t, uses_p, false) << b;
+    for (std::size_t i = 0; i < n; ++i) s << "    q[" << i << "] = " << res[i] << ";\n";
+    for (std::size_t i = 0; i < n; ++i) s << "    qdot[" << i << "] = " << res[n + i] << ";\n";
+    s.close();
+    s << "\n";
+}
+
+} // namespace
+
+void emit_functions(const Model& m, const OptimizedEquations& opt, const Names& names, Definitions& s) {
+    FunctionPrinter f(m, opt, names, s);
+    f.mass_matrix();
+    f.vector_functions();
+    if (f.mc > 0) f.constrained();
+    else f.constraint_stubs();
+    f.cores();
+    if (has_lane_kernel(m)) f.lane_kernels();
+    f.apply_event();
+    f.shapes();
+    f.initial_state();
 }
 
 } // namespace phynjo::codegen::detail

@@ -13,7 +13,7 @@ namespace {
 /// One Jacobian function: `fn` fills `out` ((2·dof)×cols, row-major) from ∂r (dof×cols) and
 /// ∂c (n_constraints×cols); the top rows are `top` (the identity block of ∂q'/∂q' for
 /// rhs_jacobian, zero for input_jacobian).
-void emit_one(std::ostringstream& s, const Model& m, const EquationsOfMotion& eom, const Names& names, const char* fn,
+void emit_one(Definitions& s, const Model& m, const EquationsOfMotion& eom, const Names& names, const char* fn,
               const char* out, std::size_t cols, const std::vector<Expr>& dr, const std::vector<Expr>& dc, bool identity_top) {
     const std::size_t n = eom.dof, mc = eom.n_constraints;
     const std::string size_checks = "    check_size(q, " + std::to_string(n) + ", \"" + fn + "\", \"q\");\n" +
@@ -24,7 +24,9 @@ void emit_one(std::ostringstream& s, const Model& m, const EquationsOfMotion& eo
       << "    std::span<double> " << out << ") {\n"
       << size_checks;
     if (cols == 0) {
-        s << "    (void)P;\n    (void)t;\n}\n\n";
+        s << "    (void)P;\n    (void)t;\n";
+        s.close();
+        s << "\n";
         return;
     }
     std::vector<Expr> all;
@@ -97,18 +99,18 @@ void emit_one(std::ostringstream& s, const Model& m, const EquationsOfMotion& eo
           << n * cols << ");\n";
     s << "    for (std::size_t k = " << n * cols << "; k < " << 2 * n * cols << "; ++k)\n"
       << "        if (!std::isfinite(" << out << "[k])) throw phynjo::runtime::NonFiniteResult(\"" << where
-      << ": non-finite result at t = \" + std::to_string(t));\n"
-      << "}\n\n";
+      << ": non-finite result at t = \" + std::to_string(t));\n";
+    s.close();
+    s << "\n";
 }
 
 } // namespace
 
-std::string emit_jacobians(const Model& m, const EquationsOfMotion& eom, Names names) {
+void emit_jacobians(const Model& m, const EquationsOfMotion& eom, Names names, Definitions& s) {
     for (std::size_t i = 0; i < eom.acceleration_symbols.size(); ++i)
         names.add_variable(eom.acceleration_symbols[i], "acc[" + std::to_string(i) + "]");
     for (std::size_t k = 0; k < eom.multiplier_symbols.size(); ++k)
         names.add_variable(eom.multiplier_symbols[k], "lambda[" + std::to_string(k) + "]");
-    std::ostringstream s;
     emit_one(s, m, eom, names, "rhs_jacobian", "J", 2 * eom.dof, eom.jacobian_r, eom.jacobian_c, true);
     emit_one(s, m, eom, names, "input_jacobian", "B", m.n_inputs(), eom.input_r, eom.input_c, false);
     // canonical_jacobian: p, F, ∂p/∂y, ∂F/∂y in one body (the Newton iteration of the
@@ -136,9 +138,9 @@ std::string emit_jacobians(const Model& m, const EquationsOfMotion& eom, Names n
                                                              res.begin() + static_cast<std::ptrdiff_t>(k + lens[o])));
             k += lens[o];
         }
-        s << "}\n\n";
+        s.close();
+        s << "\n";
     }
-    return s.str();
 }
 
 } // namespace phynjo::codegen::detail

@@ -1,5 +1,5 @@
 // main() of a generated simulator: it names the model's parameters and hands over to the
-// runtime's tested command-line driver (phynjo/runtime/models/model_main.hpp).
+// runtime's tested command-line driver (phynjo/runtime/simulate/model_main.hpp).
 #include "emit_detail.hpp"
 
 #include <sstream>
@@ -8,7 +8,7 @@ namespace phynjo::codegen::detail {
 
 std::string emit_main(const Model& m) {
     std::ostringstream s;
-    s << "\n// ---- main: the runtime's command-line simulator (phynjo/runtime/models/model_main.hpp) ----\n"
+    s << "\n// ---- main: the runtime's command-line simulator (phynjo/runtime/simulate/model_main.hpp) ----\n"
       << "int main(int argc, char** argv) {\n"
       << "    " << m.name << "::Parameters P;\n"
       << "    const phynjo::runtime::ModelCommandLine model{\"" << m.name << "\", {";

@@ -179,8 +179,10 @@ std::vector<Expr> solve_exact(std::vector<Expr> K, std::vector<Expr> R, std::siz
 
 } // namespace
 
-Linearization linearize(const Model& model, const EquationsOfMotion& eom,
+Linearization linearize(const Model& model, const EquationsOfMotion& derived,
                         const std::vector<std::pair<std::string, Expr>>& at) {
+    EquationsOfMotion eom = derived;
+    derive_jacobians(model, eom);
     const std::size_t n = eom.dof, m = eom.n_constraints, p = n + m;
     Linearization lin;
     const auto q = model.coordinate_symbols();

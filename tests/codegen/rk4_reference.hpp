@@ -2,7 +2,7 @@
 // What the tests of the variable-step solvers (test_cvode, test_ida) compare with: RK4 at a
 // small fixed step (projected onto the constraints after each step for constrained models),
 // and the largest difference of q and q' between two worlds.
-#include "phynjo/runtime/models/generated.hpp"
+#include "phynjo/runtime/simulate/generated.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,7 +1,7 @@
 #pragma once
 // Bit-for-bit comparisons of the tests of generated code's kernels and of runs
 // (test_kernels.cpp, test_lanes.cpp).
-#include "phynjo/runtime/models/ensemble.hpp"
+#include "phynjo/runtime/simulate/ensemble.hpp"
 
 #include <catch2/catch.hpp>
 

@@ -1,4 +1,4 @@
-// Events of generated models (docs/language.md, *Events*; runtime models/events.hpp) against
+// Events of generated models (docs/language.md, *Events*; runtime simulate/events.hpp) against
 // closed forms: the bouncing ball's every impact, the pendulum striking a wall (elliptic
 // integrals), `stop` at a `>` guard and at a velocity guard, simultaneous events, resets
 // read from the pre-event state, re-arming, Zeno and its remedy — with every integrator.

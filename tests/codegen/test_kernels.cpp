@@ -19,7 +19,7 @@
 #include "triple_pendulum.hpp"
 #include "two_balls.hpp"
 
-#include "phynjo/runtime/models/ensemble.hpp"
+#include "phynjo/runtime/simulate/ensemble.hpp"
 #include "same_bits.hpp"
 
 #include <catch2/catch.hpp>

@@ -1,4 +1,4 @@
-// Runs in the lanes of SIMD registers: generated rk4_step_values_lanes, runtime/models/lanes.hpp,
+// Runs in the lanes of SIMD registers: generated rk4_step_values_lanes, runtime/system/detail/lanes.hpp,
 // and run_many, which steps a sweep's runs kWidth at a time.
 // Bugs caught: a lane kernel that reads or writes another lane's component (a stride, a
 // store, a load out of place), or computes something else than rk4_step_values; a vector
@@ -18,9 +18,9 @@
 #include "physical_pendulum.hpp"
 #include "two_balls.hpp"
 
-#include "phynjo/runtime/models/ensemble.hpp"
+#include "phynjo/runtime/simulate/ensemble.hpp"
 #include "same_bits.hpp"
-#include "phynjo/runtime/models/lanes.hpp"
+#include "phynjo/runtime/system/detail/lanes.hpp"
 
 #include <catch2/catch.hpp>
 

@@ -24,11 +24,7 @@ namespace {
 
 using test::Compiled;
 
-Compiled compile(std::string_view text) {
-    Compiled c = test::compile_model(text);
-    codegen::derive_jacobians(c.model, c.eom);
-    return c;
-}
+Compiled compile(std::string_view text) { return test::compile_model(text); }
 
 std::string file(const std::string& path) {
     std::ifstream in(path);

@@ -1,9 +1,9 @@
-// Locating event crossings (models/crossing.hpp): the Illinois root finder against closed
+// Locating event crossings (simulate/detail/crossing.hpp): the Illinois root finder against closed
 // forms, and the continuous extensions of a step (Hermite, Dormand–Prince dense output)
 // against the exact harmonic oscillator.
 #include "phynjo/runtime/core/errors.hpp"
 #include "phynjo/runtime/integrators/dormand_prince.hpp"
-#include "phynjo/runtime/models/crossing.hpp"
+#include "phynjo/runtime/simulate/detail/crossing.hpp"
 
 #include <catch2/catch.hpp>
 

@@ -1,6 +1,6 @@
 // Compiled by ctest twice: with -DPHYNJO_CONTROL it must compile; without, it must not,
 // because it adds metres to kilograms.
-#include "phynjo/runtime/core/literal.hpp"
+#include "phynjo/runtime/core/unit_literal.hpp"
 
 int main() {
     using namespace phynjo::runtime;

@@ -44,7 +44,7 @@ done
 # a usage error (exit 2, as the help says), not a failed run
 [ $rc -eq 2 ] && grep -q "\-\-integrator bdf takes models without constraints; this one has 1 (use cvode or ida)" "$work/err" \
   && ok "bdf on a constrained model: usage error (exit 2), cvode or ida named" || bad "bdf on a constrained model (exit $rc): $(cat "$work/err")"
-"$sim" --integrator rk4 --rtol 1e-9 2>"$work/err"; [ $? -eq 2 ] && grep -q "cvode, ida, bdf or dopri" "$work/err" \
-  && ok "--rtol without cvode, ida, bdf or dopri: usage error" || bad "--rtol with rk4: $(cat "$work/err")"
+"$sim" --integrator rk4 --rtol 1e-9 2>"$work/err"; [ $? -eq 2 ] && grep -q "dopri, cvode, ida or bdf" "$work/err" \
+  && ok "--rtol without dopri, cvode, ida or bdf: usage error" || bad "--rtol with rk4: $(cat "$work/err")"
 "$sim" --projection-tolerance 0 2>/dev/null; [ $? -eq 2 ] && ok "--projection-tolerance 0: usage error" || bad "--projection-tolerance 0"
 finish

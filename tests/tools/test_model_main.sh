@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The command-line simulator every generated model links (runtime/models/model_main.cpp),
+# The command-line simulator every generated model links (runtime/src/simulate/model_main.cpp),
 # through the example simulators: options, exit codes, the CSV it writes, the integrators.
 # Catches: a driver that ignores --param or --every, writes a wrong header or row count,
 # mixes up integrators, exits 0 after a failed run, or accepts a bad option.

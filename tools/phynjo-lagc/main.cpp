@@ -257,7 +257,6 @@ int main(int argc, char** argv) {
             return 1;
         }
         if (emit == "linear") {
-            codegen::derive_jacobians(*model, *eom);
             std::string doc;
             try {
                 doc = codegen::emit_linear(*model, codegen::linearize(*model, *eom, at), format == "latex");
@@ -280,7 +279,7 @@ int main(int argc, char** argv) {
             header_path.erase(dot);
         header_path += ".hpp";
         const std::string header_name = header_path.substr(header_path.find_last_of('/') + 1);
-        const auto code = codegen::emit_cpp(*model, *eom, {.header_name = header_name, .main = with_main, .parts = parts, .split_threshold = split_threshold, .piece_threshold = piece_threshold});
+        const auto code = codegen::emit_cpp(*model, codegen::optimize(*model, *eom), {.header_name = header_name, .main = with_main, .parts = parts, .split_threshold = split_threshold, .piece_threshold = piece_threshold});
         std::size_t bytes = code.header.size() + code.source.size();
         for (const auto& part : code.parts) bytes += part.size();
         if (bytes > max_output) {

@@ -1,7 +1,7 @@
 #pragma once
 // Internals shared by the implicit integrators of generated models (lagrangian_midpoint.cpp,
 // lagrangian_rattle.cpp): velocities from momenta, and solves with their factors.
-#include "phynjo/runtime/models/lagrangian_system.hpp"
+#include "phynjo/runtime/system/lagrangian_system.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -2,8 +2,8 @@
 // What the SUNDIALS integrators (cvode.cpp, ida.cpp) share: a flag's name, the setup check,
 // the check that a world is where the solver left it (continue its history) or was changed
 // (restart), the end of an advance, and the solver as a workflow. Internal to the runtime.
-#include "phynjo/runtime/models/constraint_projection.hpp"
-#include "phynjo/runtime/models/lagrangian_system.hpp"
+#include "phynjo/runtime/system/constraint_projection.hpp"
+#include "phynjo/runtime/system/lagrangian_system.hpp"
 
 #include <algorithm>
 #include <cmath>

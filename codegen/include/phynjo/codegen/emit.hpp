@@ -3,6 +3,7 @@
 /// Emission: the generated C++ (docs/generated-code.md), LaTeX, and M and f in the input syntax.
 #include "phynjo/codegen/equations.hpp"
 #include "phynjo/codegen/model.hpp"
+#include "phynjo/codegen/optimize.hpp"
 
 #include <cstddef>
 #include <string>
@@ -43,8 +44,9 @@ struct EmittedCpp {
     std::vector<std::string> parts;
 };
 
-/// The generated pair. Deterministic: the same model gives byte-identical text.
-EmittedCpp emit_cpp(const Model& model, const EquationsOfMotion& eom, const EmitOptions& options);
+/// The generated pair, printed from the optimize step's forms (optimize.hpp). Deterministic:
+/// the same model gives byte-identical text.
+EmittedCpp emit_cpp(const Model& model, const OptimizedEquations& equations, const EmitOptions& options);
 /// A LaTeX document of L and the equations of motion M q'' = f.
 std::string emit_latex(const Model& model, const EquationsOfMotion& eom);
 /// `M(i,j) = …` and `f(i) = …` lines in the input syntax (1-based, coordinate order).

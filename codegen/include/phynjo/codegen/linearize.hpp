@@ -37,8 +37,8 @@ struct Linearization {
 };
 
 /// Linearizes about the state `at`: (name, exact value) for coordinates `x`, velocities
-/// `x'` and time `t`; what is not given is 0. Values may use the parameters. `eom` must hold
-/// the Jacobians (derive_jacobians).
+/// `x'` and time `t`; what is not given is 0. Values may use the parameters. `eom` as
+/// derive() gives it: the Jacobians are derived here, of its exact (not Horner) forms.
 Linearization linearize(const Model& model, const EquationsOfMotion& eom,
                         const std::vector<std::pair<std::string, cas::Expr>>& at);
 

@@ -5,8 +5,8 @@
 /// a sweep's batches of runs are dealt round robin to the K ranks, each running its batches
 /// on its own --threads; rank 0 writes the summary in run order, byte-identical to one
 /// process's. Started without a launcher, the simulator never initializes MPI.
-#include "phynjo/runtime/models/ensemble.hpp"
-#include "phynjo/runtime/models/model_main.hpp"
+#include "phynjo/runtime/simulate/ensemble.hpp"
+#include "phynjo/runtime/simulate/model_main.hpp"
 
 #include <mpi.h>
 

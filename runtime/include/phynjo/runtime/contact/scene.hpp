@@ -27,8 +27,8 @@
 ///   giving it a velocity.
 #include "phynjo/runtime/contact/contact_solver.hpp"
 #include "phynjo/runtime/core/workflow.hpp"
-#include "phynjo/runtime/models/constraint_projection.hpp"
-#include "phynjo/runtime/models/lagrangian_system.hpp"
+#include "phynjo/runtime/system/constraint_projection.hpp"
+#include "phynjo/runtime/system/lagrangian_system.hpp"
 #include "phynjo/runtime/rigid/rigid_world.hpp"
 
 #include <memory>

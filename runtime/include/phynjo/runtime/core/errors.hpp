@@ -99,7 +99,7 @@ public:
 };
 
 /// Events accumulate (Zeno behaviour: a ball with restitution e < 1 bounces infinitely often
-/// in finite time). The message names the event and the time (models/events.hpp).
+/// in finite time). The message names the event and the time (simulate/events.hpp).
 class ZenoError : public Error {
 public:
     using Error::Error;

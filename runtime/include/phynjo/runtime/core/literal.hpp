@@ -1,12 +1,9 @@
 #pragma once
 /// \file
-/// The seed's literals: a scalar per component (SLit), a Boolean flag per component
-/// (FlagLit) and quantities with physical dimensions checked at compile time (ULiteral).
-/// Dense arrays over a registry's indices; an entry never written reads as 0 (false).
+/// Literals (docs/architecture.md, glossary): a scalar per component (SLit) and a Boolean
+/// flag per component (FlagLit), dense arrays over a registry's indices; an entry never
+/// written reads as 0 (false). Quantities with dimensions: unit_literal.hpp.
 #include "phynjo/runtime/core/component.hpp"
-
-#include <boost/units/quantity.hpp>
-#include <boost/units/systems/si.hpp>
 
 #include <cstdint>
 #include <functional>
@@ -72,45 +69,6 @@ public:
 
 private:
     std::vector<std::uint8_t> flags_;
-};
-
-namespace units = boost::units;
-namespace si = boost::units::si;
-using Length = units::quantity<si::length>;
-using Mass = units::quantity<si::mass>;
-using Time = units::quantity<si::time>;
-using Velocity = units::quantity<si::velocity>;
-using Momentum = units::quantity<si::momentum>;
-using Force = units::quantity<si::force>;
-using Energy = units::quantity<si::energy>;
-using Acceleration = units::quantity<si::acceleration>;
-
-/// A quantity of unit `Unit` per component (Boost.Units: the dimension is a type, so adding a
-/// ULiteral of metres to one of kilograms does not compile). Missing entries read as 0.
-template <typename Unit>
-class ULiteral {
-public:
-    using Quantity = units::quantity<Unit>;
-    ULiteral() = default;
-    explicit ULiteral(std::size_t n) : values_(n, Quantity::from_value(0.0)) {}
-    [[nodiscard]] Quantity lookup(Index i) const noexcept {
-        return i < values_.size() ? values_[i] : Quantity::from_value(0.0);
-    }
-    void set(Index i, Quantity q) {
-        if (i >= values_.size()) values_.resize(i + 1, Quantity::from_value(0.0));
-        values_[i] = q;
-    }
-    [[nodiscard]] std::size_t size() const noexcept { return values_.size(); }
-    /// Entry-wise sum: only of the same unit.
-    friend ULiteral operator+(const ULiteral& a, const ULiteral& b) {
-        ULiteral r(std::max(a.size(), b.size()));
-        for (std::size_t i = 0; i < r.size(); ++i)
-            r.values_[i] = a.lookup(static_cast<Index>(i)) + b.lookup(static_cast<Index>(i));
-        return r;
-    }
-
-private:
-    std::vector<Quantity> values_;
 };
 
 } // namespace phynjo::runtime

@@ -12,7 +12,7 @@
 /// 18, 1 (1997) (NDF, the quasi-constant step size); G. D. Byrne and A. C. Hindmarsh, A
 /// polyalgorithm for the numerical solution of ODEs, ACM TOMS 1, 71 (1975) (the error
 /// estimates); the step, order and Newton controls follow SciPy's solve_ivp(method='BDF').
-#include "phynjo/runtime/models/lagrangian_system.hpp"
+#include "phynjo/runtime/system/lagrangian_system.hpp"
 
 #include <limits>
 #include <memory>

@@ -6,7 +6,7 @@
 /// symplectic. (source: integrators/cvode.cpp)
 /// Reference: A. C. Hindmarsh et al., SUNDIALS: Suite of nonlinear and differential/algebraic
 /// equation solvers, ACM TOMS 31, 363 (2005); CVODE user guide v6.4.
-#include "phynjo/runtime/models/constraint_projection.hpp"
+#include "phynjo/runtime/system/constraint_projection.hpp"
 
 #include <memory>
 #include <span>

@@ -2,7 +2,7 @@
 /// \file
 /// Adaptive Dormand–Prince 5(4) for generated models. Order 5 (4 for the error estimate),
 /// not symplectic. (source: integrators/dormand_prince.cpp)
-#include "phynjo/runtime/models/constraint_projection.hpp"
+#include "phynjo/runtime/system/constraint_projection.hpp"
 
 #include <cstddef>
 #include <span>
@@ -33,7 +33,7 @@ public:
     /// The continuous extension of the last accepted step (Shampine's dense output of
     /// order 4, as in Hairer's DOPRI5: L. F. Shampine, Math. Comp. 46, 135 (1986)): (q, q')
     /// at time t in [t0, t0 + h] of that step, before any projection. What events are
-    /// located on (models/events.hpp). std::logic_error before the first step,
+    /// located on (simulate/events.hpp). std::logic_error before the first step,
     /// std::invalid_argument outside the step.
     void dense(double t, std::span<double> q, std::span<double> v) const;
 

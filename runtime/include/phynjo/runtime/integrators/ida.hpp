@@ -21,7 +21,7 @@
 /// The momentum form makes the equations semi-explicit (q' and λ, μ are algebraic; q and p
 /// carry the error test, λ and μ are left out of it, IDASetSuppressAlg) and serves models
 /// whose M depends on q' too. Unconstrained models are the first three rows.
-#include "phynjo/runtime/models/constraint_projection.hpp"
+#include "phynjo/runtime/system/constraint_projection.hpp"
 
 #include <memory>
 #include <span>

@@ -2,7 +2,7 @@
 /// \file
 /// The implicit midpoint rule for generated models, in canonical coordinates (q, p). Order 2,
 /// symplectic, symmetric. (source: integrators/lagrangian_midpoint.cpp)
-#include "phynjo/runtime/models/constraint_projection.hpp"
+#include "phynjo/runtime/system/constraint_projection.hpp"
 
 namespace phynjo::runtime {
 

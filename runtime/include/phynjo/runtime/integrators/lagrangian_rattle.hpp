@@ -3,7 +3,7 @@
 /// RATTLE for generated models with holonomic constraints (or none): the constrained
 /// generalized leapfrog in canonical variables. Order 2, symmetric; symplectic for a
 /// conservative model with time-independent constraints. (source: integrators/lagrangian_rattle.cpp)
-#include "phynjo/runtime/models/constraint_projection.hpp"
+#include "phynjo/runtime/system/constraint_projection.hpp"
 
 namespace phynjo::runtime {
 

@@ -2,7 +2,7 @@
 /// \file
 /// Classical RK4 for generated models, as a workflow of rules. Order 4, not symplectic.
 /// (source: integrators/lagrangian_rk4.cpp)
-#include "phynjo/runtime/models/constraint_projection.hpp"
+#include "phynjo/runtime/system/constraint_projection.hpp"
 
 namespace phynjo::runtime {
 

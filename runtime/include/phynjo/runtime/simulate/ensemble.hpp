@@ -5,10 +5,10 @@
 /// threads, summarized one CSV row per run in a fixed order — byte-identical whatever the
 /// thread count, and resumable. The simulators' `--grid`, `--samples`, `--uniform`, `--summary`
 /// (model_main.hpp) are this module.
-#include "phynjo/runtime/models/constraint_projection.hpp"
-#include "phynjo/runtime/models/events.hpp"
-#include "phynjo/runtime/models/lagrangian_system.hpp"
-#include "phynjo/runtime/models/model_main.hpp"
+#include "phynjo/runtime/system/constraint_projection.hpp"
+#include "phynjo/runtime/simulate/events.hpp"
+#include "phynjo/runtime/system/lagrangian_system.hpp"
+#include "phynjo/runtime/simulate/model_main.hpp"
 
 #include <cstdint>
 #include <optional>
@@ -64,7 +64,7 @@ struct RunSummary {
 /// How every run of a sweep is stepped.
 struct RunSettings {
     double t_end = 10, dt = 1e-3;
-    std::string integrator = "rk4"; ///< rk4, midpoint, rattle or dopri
+    std::string integrator = "rk4"; ///< an integrator that runs in sweeps (integrator_registry.hpp)
     EventOptions events;
     ProjectionOptions projection;
     long every = 1; ///< a trajectory's rows: every `every`-th step (the first and last always)
@@ -82,6 +82,7 @@ struct RunSettings {
 /// `failed` summary with the reason; a `stop` event is a `stopped` one. With `trajectory`, the
 /// run's rows are appended to it as CSV lines `t,q…,q'…,E` (%.17g; the simulator's --output
 /// without its header): t = 0, every `settings.every`-th step, and the last step.
+/// std::invalid_argument when `settings.integrator` does not run in sweeps.
 RunSummary run_one(const LagrangianSystem& system, std::span<const std::pair<std::size_t, double>> q0,
                    std::span<const std::pair<std::size_t, double>> v0, const RunSettings& settings,
                    std::string* trajectory = nullptr);
@@ -99,7 +100,7 @@ struct RunStart {
 /// summaries in `out` (same size), as run_one gives them — but, with `settings.lanes` and when
 /// every run's system has the generated lane kernels of one model (`rk4_step_values_lanes_each`:
 /// rk4, no constraints, one or two coordinates), lane_width runs at a time in the lanes of SIMD
-/// registers (runtime/models/lanes.hpp), each with its own parameters: then a run's sines and
+/// registers (runtime/system/detail/lanes.hpp), each with its own parameters: then a run's sines and
 /// cosines are libmvec's, so its summary agrees with run_one's to rounding, not bit for bit.
 /// Either way a run's summary depends on that run alone: not on the other runs, their order,
 /// or which of them shared its registers. `finished(k)`, when given, is called as soon as run

@@ -3,7 +3,7 @@
 /// Events of generated models (docs/language.md, *Events*) between the steps of any integrator:
 /// crossings located on the step's continuous extension, resets applied at the crossing,
 /// the log of what fired as a value, and the rules for simultaneous events, re-arming and
-/// Zeno behaviour. (source: models/events.cpp)
+/// Zeno behaviour. (source: simulate/events.cpp)
 ///
 /// The rules, in the order they act:
 /// - **Crossing.** Event k fires when its guard g_k passes from its *armed side* (g > 0 for
@@ -45,7 +45,7 @@
 ///   the remedy on, the geometric Zeno test is off (a chattering sequence is expected to
 ///   end in rest); the per-step limit still applies.
 #include "phynjo/runtime/core/event.hpp"
-#include "phynjo/runtime/models/lagrangian_system.hpp"
+#include "phynjo/runtime/system/lagrangian_system.hpp"
 
 #include <cstddef>
 #include <vector>

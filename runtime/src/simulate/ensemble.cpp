@@ -1,13 +1,10 @@
 // Ensembles: sweep plans, one run, and the sweep driver of the simulators (ensemble.hpp).
-#include "phynjo/runtime/models/ensemble.hpp"
+#include "phynjo/runtime/simulate/ensemble.hpp"
 
 #include "phynjo/runtime/core/errors.hpp"
 #include "phynjo/runtime/core/executor.hpp"
-#include "phynjo/runtime/integrators/dormand_prince.hpp"
-#include "phynjo/runtime/integrators/lagrangian_midpoint.hpp"
-#include "phynjo/runtime/integrators/lagrangian_rattle.hpp"
-#include "phynjo/runtime/integrators/lagrangian_rk4.hpp"
-#include "phynjo/runtime/models/lanes.hpp"
+#include "phynjo/runtime/simulate/integrator_registry.hpp"
+#include "phynjo/runtime/system/detail/lanes.hpp"
 
 #include <algorithm>
 #include <memory>
@@ -382,7 +379,8 @@ private:
 
 /// run_one takes FastRun's path: rk4, no constraints, generated code's fused kernels.
 bool fast_path(const LagrangianSystem& sys, const RunSettings& settings) {
-    return settings.integrator == "rk4" && sys.n_constraints == 0 && sys.rk4_step_values && sys.accelerations_energy_guards;
+    const IntegratorEntry* e = find_integrator(settings.integrator);
+    return e && e->fused_kernels && sys.n_constraints == 0 && sys.rk4_step_values && sys.accelerations_energy_guards;
 }
 
 } // namespace
@@ -390,6 +388,10 @@ bool fast_path(const LagrangianSystem& sys, const RunSettings& settings) {
 RunSummary run_one(const LagrangianSystem& sys, std::span<const std::pair<std::size_t, double>> q0,
                    std::span<const std::pair<std::size_t, double>> v0, const RunSettings& settings,
                    std::string* trajectory) {
+    const IntegratorEntry* entry = find_integrator(settings.integrator);
+    if (!entry || !entry->sweeps)
+        throw std::invalid_argument("run_one: integrator '" + settings.integrator + "' does not run in sweeps (" +
+                                    integrator_names([](const IntegratorEntry& e) { return e.sweeps; }) + ")");
     if (fast_path(sys, settings)) {
         // Generated code's fused kernels: per step one call, rk4_step_values — the RK4 step,
         // then q'', E and the guards at its end, whose q'' is the next step's first stage and
@@ -432,36 +434,22 @@ RunSummary run_one(const LagrangianSystem& sys, std::span<const std::pair<std::s
         auto after_step = [&](long k, bool last_step) {
             record(k, last_step, sys.energy(w.time, w.field(kGQ), w.field(kGV)));
         };
-        auto drive = [&](auto&& step_to, const EventMonitor::Extension* extension) {
-            for (long k = 1; k <= total; ++k) {
-                const double target = k <= steps ? static_cast<double>(k) * settings.dt : settings.t_end;
-                const double h = k <= steps ? settings.dt : last;
-                if (!with_events) {
-                    step_to(target, h);
-                    w.time = target;
-                } else if (!advance_with_events(monitor, w, target, h, step_to, extension)) {
-                    after_step(k, true);
-                    return;
-                }
-                after_step(k, k == total);
+        IntegratorSettings is;
+        is.dt = settings.dt;
+        is.projection = settings.projection;
+        const std::unique_ptr<RunIntegrator> run = entry->make(sys, w, is, with_events);
+        for (long k = 1; k <= total; ++k) {
+            const double target = k <= steps ? static_cast<double>(k) * settings.dt : settings.t_end;
+            const double h = k <= steps ? settings.dt : last;
+            auto step_to = [&](double t, double dt) { run->step_to(w, t, dt); };
+            if (!with_events) {
+                step_to(target, h);
+                w.time = target;
+            } else if (!advance_with_events(monitor, w, target, h, step_to, run->dense())) {
+                after_step(k, true);
+                break;
             }
-        };
-        if (settings.integrator == "dopri") {
-            DormandPrince45::Options o;
-            o.projection = settings.projection;
-            DormandPrince45 dp(sys, o);
-            double h = settings.dt;
-            auto step_to = [&](double target, double) {
-                do h = dp.step(w, std::min(dp.next_dt() > 0 ? dp.next_dt() : h, target - w.time), target);
-                while (!with_events && w.time < target - 1e-12 * settings.dt);
-            };
-            const EventMonitor::Extension dense = [&](double t, std::span<double> q, std::span<double> v) { dp.dense(t, q, v); };
-            drive(step_to, &dense);
-        } else {
-            Stepper stepper(settings.integrator == "rk4"        ? lagrangian_rk4(sys, w.layout_ptr(), settings.projection)
-                            : settings.integrator == "midpoint" ? lagrangian_midpoint(sys, w.layout_ptr(), settings.projection)
-                                                                : lagrangian_rattle(sys, w.layout_ptr(), settings.projection));
-            drive([&](double t, double h) { stepper.step(w, h); w.time = t; }, nullptr);
+            after_step(k, k == total);
         }
         record.complete(sys, monitor);
     } catch (const std::exception& e) {
@@ -637,9 +625,9 @@ int run_sweep(const SweepCommand& cmd, const ModelCommandLine& model, const char
         if (!t || t->kind == Target::parameter) return usage("--init: '" + name + "' is not a coordinate (try --help)");
         (t->kind == Target::position ? fixed_q : fixed_v).emplace_back(t->index, v);
     }
-    if (cmd.settings.integrator != "rk4" && cmd.settings.integrator != "midpoint" && cmd.settings.integrator != "rattle" &&
-        cmd.settings.integrator != "dopri")
-        return usage("sweeps run with --integrator rk4, midpoint, rattle or dopri, not '" + cmd.settings.integrator + "'");
+    if (const IntegratorEntry* e = find_integrator(cmd.settings.integrator); !e || !e->sweeps)
+        return usage("sweeps run with --integrator " + integrator_names([](const IntegratorEntry& x) { return x.sweeps; }) +
+                     ", not '" + cmd.settings.integrator + "'");
 
     const std::size_t total = cmd.plan.size();
     const std::string first_line = "# phynjo sweep: " + cmd.signature;

@@ -1,15 +1,9 @@
 // The command-line driver every generated simulator links (model_main.hpp).
-#include "phynjo/runtime/models/model_main.hpp"
+#include "phynjo/runtime/simulate/model_main.hpp"
 
-#include "phynjo/runtime/integrators/bdf.hpp"
-#include "phynjo/runtime/integrators/cvode.hpp"
-#include "phynjo/runtime/integrators/ida.hpp"
-#include "phynjo/runtime/integrators/dormand_prince.hpp"
-#include "phynjo/runtime/integrators/lagrangian_midpoint.hpp"
-#include "phynjo/runtime/integrators/lagrangian_rattle.hpp"
-#include "phynjo/runtime/integrators/lagrangian_rk4.hpp"
-#include "phynjo/runtime/models/ensemble.hpp"
-#include "phynjo/runtime/models/events.hpp"
+#include "phynjo/runtime/simulate/ensemble.hpp"
+#include "phynjo/runtime/simulate/events.hpp"
+#include "phynjo/runtime/simulate/integrator_registry.hpp"
 
 #include "strict_numbers.hpp"
 
@@ -33,13 +27,38 @@ struct UsageError {
     std::string message;
 };
 
+/// An integrator's lines in --help: its name, its order, then its help line wrapped at 92 columns.
+std::string help_line(const IntegratorEntry& e) {
+    std::string text = std::string(e.name) + ": order " + std::string(e.order) + (e.symplectic ? ", symplectic" : "") +
+                       (e.adaptive ? ", adaptive" : "") + ". " + std::string(e.help);
+    constexpr std::size_t indent = 25, width = 92;
+    std::string out;
+    while (!text.empty()) {
+        std::size_t cut = text.size();
+        if (indent + cut > width) {
+            cut = text.rfind(' ', width - indent);
+            if (cut == std::string::npos || cut == 0) cut = text.find(' ');
+            if (cut == std::string::npos) cut = text.size();
+        }
+        out += std::string(indent, ' ') + text.substr(0, cut) + "\n";
+        text.erase(0, cut == text.size() ? cut : cut + 1);
+    }
+    return out;
+}
+
 void help(const char* prog, const ModelCommandLine& model, const LagrangianSystem& sys) {
     std::string params, coords;
     for (const auto& [name, set] : model.parameters) params += (params.empty() ? "" : ", ") + std::string(name);
     for (const auto& n : sys.coordinate_names) coords += (coords.empty() ? "" : ", ") + n;
     std::string events;
     for (const auto& n : sys.event_names) events += (events.empty() ? "" : ", ") + n;
-    std::printf("usage: %s [--t-end T] [--dt DT] [--integrator rk4|dopri|midpoint|rattle|cvode|ida|bdf] [--every K]\n"
+    std::string names, lines;
+    for (const IntegratorEntry& e : integrator_registry()) {
+        names += (names.empty() ? "" : "|") + std::string(e.name);
+        lines += help_line(e);
+    }
+    const std::string tolerances = integrator_names([](const IntegratorEntry& e) { return e.tolerances; });
+    std::printf("usage: %s [--t-end T] [--dt DT] [--integrator %s] [--every K]\n"
                 "          [--param NAME=VALUE]... [--init NAME=VALUE[,NAME'=VALUE]...]... [--output FILE]\n"
                 "          [--energy-tolerance TOL [--fail-on-drift]] [--project-initial]\n"
                 "          [--projection-tolerance TOL] [--rtol R] [--atol A]\n"
@@ -50,19 +69,9 @@ void help(const char* prog, const ModelCommandLine& model, const LagrangianSyste
                 "(and, for a model with constraints, their multipliers lambda_NAME...).\n"
                 "  --t-end T              end time in s (default 10); the run ends exactly at T\n"
                 "  --dt DT                step in s (default 0.001); the last step is shortened to end at T\n"
-                "  --integrator NAME      rk4 (default), dopri (Dormand-Prince 5(4), adaptive between the\n"
-                "                         rows), midpoint (symplectic without constraints, symmetric with\n"
-                "                         them: bounded energy error), rattle (symplectic with holonomic\n"
-                "                         constraints too), cvode (SUNDIALS CVODE: variable-order BDF\n"
-                "                         with the exact Jacobian, for stiff models), or ida (SUNDIALS IDA:\n"
-                "                         BDF on the equations with their constraints, stabilized index 2,\n"
-                "                         constraints held at every step; about 3x cvode's steps: see\n"
-                "                         docs/generated-code.md), or bdf (phynjo's own variable-\n"
-                "                         order BDF with the exact Jacobian, for stiff models without\n"
-                "                         constraints); cvode, ida and bdf take their own steps between\n"
-                "                         the rows and print their step counts on stderr\n"
-                "  --rtol R, --atol A     cvode, ida, bdf and dopri: relative and absolute tolerances\n"
-                "                         (defaults: cvode, ida and bdf 1e-8 and 1e-10, dopri 1e-9, 1e-12)\n"
+                "  --integrator NAME      the integrator (default %s; docs/generated-code.md compares them):\n"
+                "%s"
+                "  --rtol R, --atol A     %s: relative and absolute tolerances\n"
                 "  --every K              write every K-th step (default: about 5000 rows); the first and\n"
                 "                         the last row are always written; t is exactly k*DT\n"
                 "  --param NAME=VALUE     set a parameter (repeatable); parameters: %s\n"
@@ -120,7 +129,8 @@ void help(const char* prog, const ModelCommandLine& model, const LagrangianSyste
                 "Exit status: 0 done (also when a stop event ended the run), 1 the run failed (the message\n"
                 "says why and when), 2 usage error,\n"
                 "3 energy drift beyond the tolerance (with --fail-on-drift).\n",
-                prog, prog, static_cast<int>(model.model_name.size()), model.model_name.data(), params.empty() ? "(none)" : params.c_str(),
+                prog, names.c_str(), prog, static_cast<int>(model.model_name.size()), model.model_name.data(),
+                std::string(integrator_registry().front().name).c_str(), lines.c_str(), tolerances.c_str(), params.empty() ? "(none)" : params.c_str(),
                 coords.c_str(), events.empty() ? "(none)" : events.c_str());
 }
 
@@ -134,7 +144,8 @@ int model_main(int argc, char** argv, const ModelCommandLine& model, SweepProces
     std::optional<double> energy_tolerance;
     bool fail_on_drift = false, project_initial = false;
     ProjectionOptions projection;
-    std::string integrator = "rk4", output, events_output, shapes_output;
+    std::string integrator(integrator_registry().front().name), output, events_output, shapes_output;
+    const IntegratorEntry* entry = nullptr;
     EventOptions event_options;
     std::optional<double> rtol, atol;
     long every = 0;
@@ -249,11 +260,11 @@ int model_main(int argc, char** argv, const ModelCommandLine& model, SweepProces
         }
         if (!(dt > 0)) throw UsageError{"--dt must be positive"};
         if (!(t_end >= 0)) throw UsageError{"--t-end must not be negative"};
-        if (integrator != "rk4" && integrator != "dopri" && integrator != "midpoint" && integrator != "rattle" &&
-            integrator != "cvode" && integrator != "ida" && integrator != "bdf")
-            throw UsageError{"--integrator must be rk4, dopri, midpoint, rattle, cvode, ida or bdf, not '" + integrator + "'"};
-        if ((rtol || atol) && integrator != "cvode" && integrator != "ida" && integrator != "bdf" && integrator != "dopri")
-            throw UsageError{"--rtol and --atol go with --integrator cvode, ida, bdf or dopri"};
+        entry = find_integrator(integrator);
+        if (!entry) throw UsageError{"--integrator must be " + integrator_names() + ", not '" + integrator + "'"};
+        if ((rtol || atol) && !entry->tolerances)
+            throw UsageError{"--rtol and --atol go with --integrator " +
+                             integrator_names([](const IntegratorEntry& e) { return e.tolerances; })};
         if (fail_on_drift && !energy_tolerance) throw UsageError{"--fail-on-drift needs --energy-tolerance"};
         if (sweeping) {
             if (sweep.summary.empty()) throw UsageError{"a sweep (--grid, --uniform, --samples) needs --summary FILE"};
@@ -302,9 +313,10 @@ int model_main(int argc, char** argv, const ModelCommandLine& model, SweepProces
         return run_sweep(sweep, model, argv[0]);
     }
     const LagrangianSystem sys = model.system();
-    if (integrator == "bdf" && sys.n_constraints > 0) {
-        std::fprintf(stderr, "%s: --integrator bdf takes models without constraints; this one has %zu (use cvode or ida)\n",
-                     argv[0], sys.n_constraints);
+    if (!entry->constraints && sys.n_constraints > 0) {
+        const std::string instead = integrator_names([](const IntegratorEntry& e) { return e.constraints && e.stiff; });
+        std::fprintf(stderr, "%s: --integrator %s takes models without constraints; this one has %zu (use %s)\n", argv[0],
+                     integrator.c_str(), sys.n_constraints, instead.c_str());
         return 2;
     }
     World w = make_lagrangian_world(sys);
@@ -431,61 +443,15 @@ int model_main(int argc, char** argv, const ModelCommandLine& model, SweepProces
             if (k % every == 0 || k == total) row();
             return true;
         };
-        // a variable-step BDF (CVODE, IDA, Bdf): its own steps between the rows, its counters on stderr
-        auto run_sundials = [&](auto solver_tag, const char* name) {
-            using Solver = typename decltype(solver_tag)::type;
-            typename Solver::Options o;
-            if constexpr (requires { o.projection; }) o.projection = projection;
-            if (rtol) o.rtol = *rtol;
-            if (atol) o.atol = *atol;
-            Solver solver(sys, o);
-            if (!with_events) {
-                for (long k = 1; k <= total; ++k)
-                    advance([&](double target, double) { solver.advance(w, target); w.time = target; }, k, target_of(k));
-            } else {
-                // watched one internal step at a time; crossings located on the solver's own
-                // interpolating polynomial of each step
-                const EventMonitor::Extension dense = [&](double t, std::span<double> q, std::span<double> v) {
-                    solver.dense(t, q, v);
-                };
-                for (long k = 1; k <= total; ++k)
-                    if (!advance([&](double target, double) { solver.step(w, target); }, k, target_of(k), &dense)) break;
-            }
-            const auto st = solver.stats();
-            std::fprintf(stderr, "%s: %ld steps, %ld Jacobians, %ld Newton iterations, %ld Newton failures, %ld error-test failures\n",
-                         name, st.steps, st.jacobian_evaluations, st.newton_iterations, st.newton_failures, st.error_test_failures);
-        };
-        if (integrator == "cvode") {
-            run_sundials(std::type_identity<Cvode>{}, "cvode");
-        } else if (integrator == "ida") {
-            run_sundials(std::type_identity<Ida>{}, "ida");
-        } else if (integrator == "bdf") {
-            run_sundials(std::type_identity<Bdf>{}, "bdf");
-        } else if (integrator == "dopri") {
-            DormandPrince45::Options dopts;
-            dopts.projection = projection;
-            if (rtol) dopts.rtol = *rtol;
-            if (atol) dopts.atol = *atol;
-            DormandPrince45 dp(sys, dopts);
-            double h = dt;
-            // one accepted step (with events: each one watched), or all of them up to target
-            auto step_to = [&](double target, double) {
-                do h = dp.step(w, std::min(dp.next_dt() > 0 ? dp.next_dt() : h, target - w.time), target);
-                while (!with_events && w.time < target - 1e-12 * dt);
-            };
-            // events are located on its dense output
-            const EventMonitor::Extension dense = [&](double t, std::span<double> q, std::span<double> v) { dp.dense(t, q, v); };
-            for (long k = 1; k <= total; ++k)
-                if (!advance(step_to, k, target_of(k), &dense)) break;
-        } else {
-            Stepper stepper(integrator == "rk4"        ? lagrangian_rk4(sys, w.layout_ptr(), projection)
-                            : integrator == "midpoint" ? lagrangian_midpoint(sys, w.layout_ptr(), projection)
-                                                       : lagrangian_rattle(sys, w.layout_ptr(), projection));
-            for (long k = 1; k <= total; ++k) {
-                const double target = target_of(k);
-                if (!advance([&](double t, double h) { stepper.step(w, h); w.time = t; }, k, target)) break;
-            }
-        }
+        IntegratorSettings settings;
+        settings.dt = dt;
+        settings.projection = projection;
+        settings.rtol = rtol;
+        settings.atol = atol;
+        const std::unique_ptr<RunIntegrator> run = entry->make(sys, w, settings, with_events);
+        for (long k = 1; k <= total; ++k)
+            if (!advance([&](double target, double h) { run->step_to(w, target, h); }, k, target_of(k), run->dense())) break;
+        if (const std::string st = run->statistics(); !st.empty()) std::fprintf(stderr, "%s\n", st.c_str());
     } catch (const std::exception& e) {
         std::fprintf(stderr, "%s: simulation stopped at t = %.17g: %s\n", argv[0], w.time, e.what());
         status = 1;

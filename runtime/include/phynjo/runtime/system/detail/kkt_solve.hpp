@@ -8,7 +8,7 @@
 /// sides; G M⁻¹ Gᵀ (C×C, symmetric) is factored the same way. Fixed size, no allocation in
 /// the regular case (bench/: `ratio kkt_four_bar` against a dense KKT solve).
 #include "phynjo/runtime/core/errors.hpp"
-#include "phynjo/runtime/models/symmetric_solve.hpp"
+#include "phynjo/runtime/system/detail/symmetric_solve.hpp"
 
 #include <array>
 #include <cmath>

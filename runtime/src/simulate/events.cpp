@@ -1,7 +1,7 @@
-// Events of generated models between integrator steps (models/events.hpp: the rules).
-#include "phynjo/runtime/models/events.hpp"
+// Events of generated models between integrator steps (simulate/events.hpp: the rules).
+#include "phynjo/runtime/simulate/events.hpp"
 
-#include "phynjo/runtime/models/crossing.hpp"
+#include "phynjo/runtime/simulate/detail/crossing.hpp"
 
 #include <algorithm>
 #include <bit>

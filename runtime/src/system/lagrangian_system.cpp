@@ -1,4 +1,4 @@
-#include "phynjo/runtime/models/lagrangian_system.hpp"
+#include "phynjo/runtime/system/lagrangian_system.hpp"
 
 namespace phynjo::runtime {
 

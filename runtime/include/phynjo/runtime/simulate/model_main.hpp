@@ -4,10 +4,11 @@
 /// MAIN)`): the generated main() only names the model's parameters and hands over; the
 /// options, the integrators and the CSV output are this one tested driver.
 ///
-///   MODEL [--t-end T] [--dt DT] [--integrator rk4|dopri|midpoint] [--every K]
+///   MODEL [--t-end T] [--dt DT] [--integrator NAME] [--every K]
 ///         [--param NAME=VALUE]... [--output FILE]
-/// simulates from the model's initial state and writes CSV: t, q…, q'…, E.
-#include "phynjo/runtime/models/lagrangian_system.hpp"
+/// simulates from the model's initial state and writes CSV: t, q…, q'…, E. The integrators
+/// are those of integrator_registry.hpp; --help lists every option.
+#include "phynjo/runtime/system/lagrangian_system.hpp"
 
 #include <functional>
 #include <string_view>

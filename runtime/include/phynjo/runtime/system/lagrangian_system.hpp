@@ -5,9 +5,9 @@
 /// worlds are in integrators/ (lagrangian_rk4, lagrangian_midpoint, dormand_prince).
 #include "phynjo/runtime/core/errors.hpp"
 #include "phynjo/runtime/core/workflow.hpp"
-#include "phynjo/runtime/models/derived.hpp"
-#include "phynjo/runtime/models/kkt_solve.hpp"
-#include "phynjo/runtime/models/symmetric_solve.hpp"
+#include "phynjo/runtime/system/detail/derived.hpp"
+#include "phynjo/runtime/system/detail/kkt_solve.hpp"
+#include "phynjo/runtime/system/detail/symmetric_solve.hpp"
 
 #include <algorithm>
 #include <array>
@@ -101,7 +101,7 @@ struct LagrangianSystem {
         accelerations_and_multipliers;
 
     // Events (docs/language.md, *Events*), file order; none when n_events = 0. Driven by
-    // EventMonitor (models/events.hpp).
+    // EventMonitor (simulate/events.hpp).
     std::size_t n_events = 0;
     std::vector<std::string> event_names;
     /// Per event: −1 when it fires as g falls through 0 (`A < B`), +1 as g rises (`A > B`).

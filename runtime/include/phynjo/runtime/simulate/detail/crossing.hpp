@@ -3,7 +3,7 @@
 /// Locating where an event guard crosses zero between two accepted steps (docs/language.md,
 /// *Events*: crossings are located, never rounded to the step): the continuous extension of
 /// a step of a second-order system, and a bracketing root finder on it.
-/// (source: models/crossing.cpp)
+/// (source: simulate/crossing.cpp)
 #include <functional>
 #include <span>
 

@@ -1,5 +1,5 @@
-// The continuous extension of a step and the Illinois root finder. See models/crossing.hpp.
-#include "phynjo/runtime/models/crossing.hpp"
+// The continuous extension of a step and the Illinois root finder. See simulate/detail/crossing.hpp.
+#include "phynjo/runtime/simulate/detail/crossing.hpp"
 
 #include "phynjo/runtime/core/errors.hpp"
 

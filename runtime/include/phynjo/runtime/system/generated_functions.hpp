@@ -5,7 +5,7 @@
 /// model (phynjo-lagc --parts) include only this, not the runtime integration of
 /// generated.hpp, which saves about a second of g++ per file.
 #include "phynjo/runtime/core/errors.hpp"
-#include "phynjo/runtime/models/derived.hpp"
-#include "phynjo/runtime/models/kkt_solve.hpp"
-#include "phynjo/runtime/models/lanes.hpp"
-#include "phynjo/runtime/models/symmetric_solve.hpp"
+#include "phynjo/runtime/system/detail/derived.hpp"
+#include "phynjo/runtime/system/detail/kkt_solve.hpp"
+#include "phynjo/runtime/system/detail/lanes.hpp"
+#include "phynjo/runtime/system/detail/symmetric_solve.hpp"

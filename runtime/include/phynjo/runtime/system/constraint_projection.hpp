@@ -9,7 +9,7 @@
 /// with ψ the velocity-level constraints: φ' = G q' + ∂φ/∂t for holonomic rows and φ itself
 /// for nonholonomic rows. Reference: Hairer, Lubich, Wanner, Geometric Numerical
 /// Integration, §IV.4 (standard projection). No allocation in a steady step.
-#include "phynjo/runtime/models/lagrangian_system.hpp"
+#include "phynjo/runtime/system/lagrangian_system.hpp"
 
 #include <cmath>
 #include <cstddef>

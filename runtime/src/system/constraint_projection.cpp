@@ -1,9 +1,9 @@
 // Projections onto the constraint manifold of a generated model, and the check of initial
 // values (constraint_projection.hpp). Scratch is thread-local and keeps its size: no
 // allocation in a steady step.
-#include "phynjo/runtime/models/constraint_projection.hpp"
+#include "phynjo/runtime/system/constraint_projection.hpp"
 
-#include "phynjo/runtime/models/kkt_solve.hpp"
+#include "phynjo/runtime/system/detail/kkt_solve.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,0 +1,39 @@
+#pragma once
+/// \file
+/// The compiler's middle step, between derivation and emission (derive → optimize → emit):
+/// every expression the generated functions evaluate, in the form that costs least —
+/// common factors out of sums (Horner form, cas::horner, one pass over each group so that
+/// the work on common subexpressions is shared), and the Jacobians derived from those forms,
+/// whose derivatives keep the factored sums. The emitters print what this gives them and
+/// transform nothing; each function body is then one CSE pass (cpp_body.cpp).
+#include "phynjo/codegen/equations.hpp"
+#include "phynjo/codegen/model.hpp"
+
+#include <vector>
+
+namespace phynjo::codegen {
+
+struct OptimizedEquations {
+    /// M, f, p, E, F, G, γ, φ, φ' in Horner form (one pass over them all); the Jacobians
+    /// (derive_jacobians) of those forms, in Horner form again (one pass); the scales'
+    /// terms as derived.
+    EquationsOfMotion eom;
+    /// The events' guards, file order (one pass).
+    std::vector<cas::Expr> guards;
+    /// Per event, its resets' right sides (one pass per event).
+    std::vector<std::vector<cas::Expr>> reset_values;
+    /// The shapes' points, file order: a sphere's centre (3), a segment's ends (6) (one pass).
+    std::vector<cas::Expr> shape_points;
+    /// Per sphere, ∂(X, Y, Z)/∂q row-major 3 × dof (one pass over all spheres).
+    std::vector<cas::Expr> sphere_jacobians;
+    /// The spheres' radii, as written.
+    std::vector<cas::Expr> sphere_radii;
+    /// The initial values: the coordinates', then the velocities', as written.
+    std::vector<cas::Expr> initial_values;
+};
+
+/// The optimize step: `eom` as derive() gave it (no Jacobians) to what the emitters print.
+/// Deterministic: the same model gives the same forms.
+OptimizedEquations optimize(const Model& model, const EquationsOfMotion& eom);
+
+} // namespace phynjo::codegen
