@@ -43,9 +43,9 @@ TEST_CASE("derivatives match closed forms", "[cas][diff]") {
     CHECK_THROWS_AS(diff(parse("x"), parse("x^2")), Error);
 }
 
-// Bug caught: a wrong derivative rule of one of contract v2's functions (a sign, 1 + u²
+// Bug caught: a wrong derivative rule of one of the inverse and hyperbolic functions (a sign, 1 + u²
 // for 1 − u², sign' taken as a delta), or a canonical rule that changes the value.
-TEST_CASE("contract v2 functions: derivatives, symmetries, values", "[cas][diff]") {
+TEST_CASE("inverse and hyperbolic functions: derivatives, symmetries, values", "[cas][diff]") {
     CHECK(d("asin(x)", "x") == parse("1/sqrt(1 - x^2)"));
     CHECK(d("acos(x)", "x") == parse("-1/sqrt(1 - x^2)"));
     CHECK(d("atan(x)", "x") == parse("1/(1 + x^2)"));

@@ -313,11 +313,11 @@ TEST_CASE("generated code with every v2 function: accelerations against the hand
     }
 }
 
-// Bugs caught: a model without the declarations contract v2 makes for every model — events
+// Bugs caught: a model without the declarations made for every model — events
 // and shapes (docs/generated-code.md: "declared for every model …, then the counts are 0 and the
 // functions still exist"; a user's code naming them would not compile) —, or their size
 // checks missing (a caller's wrong span accepted silently).
-TEST_CASE("contract v2: every model declares events and shapes (none yet), sizes checked", "[codegen][generated]") {
+TEST_CASE("every model declares events and shapes (none yet), sizes checked", "[codegen][generated]") {
     static_assert(pendulum::n_events == 0 && pendulum::event_names.empty());
     static_assert(double_pendulum::n_shapes == 0 && double_pendulum::shape_names.empty());
     const double_pendulum::Parameters P;

@@ -61,7 +61,7 @@ inline rc::Gen<Expr> gen_expr(int depth = 4) {
         {1, gen::map(sub, [](Expr e) { return safely([&] { return cas::tan(e); }, e); })},
         {1, gen::map(sub, [](Expr e) { return cas::exp(e); })},
         {1, gen::map(sub, [](Expr e) { return safely([&] { return cas::log(e); }, e); })},
-        // contract v2's functions
+        // the inverse, hyperbolic and piecewise functions
         {1, gen::map(sub, [](Expr e) { return safely([&] { return cas::asin(e); }, e); })},
         {1, gen::map(sub, [](Expr e) { return safely([&] { return cas::acos(e); }, e); })},
         {1, gen::map(sub, [](Expr e) { return cas::atan(e); })},

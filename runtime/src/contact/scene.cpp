@@ -2,6 +2,8 @@
 // coupling (effective masses and impulses through the sphere Jacobians) is in contact_solver.cpp.
 #include "phynjo/runtime/contact/scene.hpp"
 
+#include "solver.hpp"
+
 #include "phynjo/runtime/core/errors.hpp"
 #include "phynjo/runtime/integrators/lagrangian_midpoint.hpp"
 #include "phynjo/runtime/integrators/lagrangian_rattle.hpp"
@@ -212,5 +214,24 @@ double scene_energy(const Scene& scene) {
         e += scene.models[k].system->energy(scene.world.time, model_q(scene, k), model_qdot(scene, k));
     return e;
 }
+
+NumericRule contact_rule(const Scene& scene, std::vector<Plane> planes, ContactMaterial material, ContactOptions options) {
+    using namespace contact_detail;
+    validate(planes, material, options);
+    const auto& layout = scene.world.layout_ptr();
+    const ComponentSet all = scene.bodies | scene.spheres;
+    Domain writes = writes_of(*layout, all);
+    std::vector<Index> coordinates;
+    for (const PlacedModel& p : scene.models) coordinates.insert(coordinates.end(), p.coordinates.begin(), p.coordinates.end());
+    if (!coordinates.empty()) {
+        const ComponentSet c(std::move(coordinates));
+        writes = writes | Domain(scene.q, c) | Domain(scene.qd, c);
+    }
+    auto solver = std::make_shared<Solver>(scene.bodies, planes, std::move(material), options, layout, true, &scene);
+    NumericRule r{"contacts", std::move(writes), reads_of(*layout, all), nullptr, layout};
+    r.step = [solver](double dt, World& w) { solver->step(dt, w); };
+    return r;
+}
+
 
 } // namespace phynjo::runtime

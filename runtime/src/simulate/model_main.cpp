@@ -134,192 +134,294 @@ void help(const char* prog, const ModelCommandLine& model, const LagrangianSyste
                 coords.c_str(), events.empty() ? "(none)" : events.c_str());
 }
 
-} // namespace
+/// The CSV of one run (--output: t, q…, q'…, E, λ…; --shapes: t and every shape's points), a
+/// row at a time, and the largest energy drift |E − E(0)| the rows saw.
+class RunOutput {
+public:
+    explicit RunOutput(const LagrangianSystem& sys) : sys_(sys), acc_(sys.dof), lambda_(sys.n_constraints) {}
+    RunOutput(const RunOutput&) = delete;
+    RunOutput& operator=(const RunOutput&) = delete;
+    ~RunOutput() { close(); }
 
-int model_main(int argc, char** argv, const ModelCommandLine& model) { return model_main(argc, argv, model, nullptr); }
+    /// `t` (or `t,event`), then the coordinates and their velocities: both CSVs' header.
+    static void state_header(std::FILE* f, const LagrangianSystem& sys, const char* first) {
+        std::fprintf(f, "%s", first);
+        for (const auto& n : sys.coordinate_names) std::fprintf(f, ",%s", n.c_str());
+        for (const auto& n : sys.coordinate_names) std::fprintf(f, ",%s'", n.c_str());
+    }
+    /// Opens both files (the output "": standard output; the shapes "": none) and writes their
+    /// headers; false (after a message naming the file) when one cannot be written.
+    bool open(const std::string& output, const std::string& shapes, const char* program, const World& w) {
+        const LagrangianSystem& sys = sys_;
+        out_ = output.empty() ? stdout : std::fopen(output.c_str(), "w");
+        if (!out_) {
+            std::fprintf(stderr, "%s: cannot write %s\n", program, output.c_str());
+            return false;
+        }
+        state_header(out_, sys, "t");
+        std::fprintf(out_, ",E");
+        for (const auto& n : sys.constraint_names) std::fprintf(out_, ",lambda_%s", n.c_str());
+        std::fprintf(out_, "\n");
+        // --shapes: the points of every shape, one row per output row
+        if (!shapes.empty()) {
+            shapes_file_ = std::fopen(shapes.c_str(), "w");
+            if (!shapes_file_) {
+                std::fprintf(stderr, "%s: cannot write %s\n", program, shapes.c_str());
+                return false;
+            }
+            std::fprintf(shapes_file_, "t");
+            for (std::size_t k = 0; k < sys.n_shapes; ++k) {
+                const char* n = sys.shape_names[k].c_str();
+                if (sys.shape_is_sphere[k]) std::fprintf(shapes_file_, ",%s_x,%s_y,%s_z", n, n, n);
+                else std::fprintf(shapes_file_, ",%s_x1,%s_y1,%s_z1,%s_x2,%s_y2,%s_z2", n, n, n, n, n, n);
+                shape_points_.resize(shape_points_.size() + (sys.shape_is_sphere[k] ? 3 : 6));
+            }
+            std::fprintf(shapes_file_, "\n");
+        }
+        e0_ = sys.energy(0, w.field(kGQ), w.field(kGV));
+        return true;
+    }
+    /// A row of each file at the world's state.
+    void row(const World& w) {
+        const LagrangianSystem& sys = sys_;
+        const std::size_t dof = sys.dof;
+        const double e = sys.energy(w.time, w.field(kGQ), w.field(kGV));
+        drift_ = std::max(drift_, std::fabs(e - e0_));
+        std::fprintf(out_, "%.17g", w.time);
+        for (std::size_t i = 0; i < dof; ++i) std::fprintf(out_, ",%.17g", w.at(kGQ, static_cast<Index>(i)));
+        for (std::size_t i = 0; i < dof; ++i) std::fprintf(out_, ",%.17g", w.at(kGV, static_cast<Index>(i)));
+        std::fprintf(out_, ",%.17g", e);
+        if (sys.n_constraints > 0) {
+            sys.accelerations_and_multipliers(w.time, w.field(kGQ), w.field(kGV), acc_, lambda_);
+            for (double l : lambda_) std::fprintf(out_, ",%.17g", l);
+        }
+        std::fprintf(out_, "\n");
+        if (shapes_file_) {
+            if (!shape_points_.empty()) sys.shape_positions(w.time, w.field(kGQ), shape_points_);
+            std::fprintf(shapes_file_, "%.17g", w.time);
+            for (double x : shape_points_) std::fprintf(shapes_file_, ",%.17g", x);
+            std::fprintf(shapes_file_, "\n");
+        }
+    }
+    /// Closes the files (standard output stays open).
+    void close() {
+        if (out_ && out_ != stdout) std::fclose(out_);
+        if (shapes_file_) std::fclose(shapes_file_);
+        out_ = shapes_file_ = nullptr;
+    }
+    [[nodiscard]] double e0() const { return e0_; }
+    [[nodiscard]] double drift() const { return drift_; }
 
-int model_main(int argc, char** argv, const ModelCommandLine& model, SweepProcesses* processes) {
-    const bool speaks = !processes || processes->rank() == 0; // of several ranks, rank 0 alone prints
+private:
+    const LagrangianSystem& sys_;
+    std::FILE* out_ = nullptr;
+    std::FILE* shapes_file_ = nullptr;
+    std::vector<double> shape_points_, acc_, lambda_;
+    double e0_ = 0, drift_ = 0;
+};
+
+/// The simulator: its options read (parse) and checked together (check), then a sweep
+/// (sweep_runs) or one run (run).
+struct Simulator {
+    int argc;
+    char** argv;
+    const ModelCommandLine& model;
+    SweepProcesses* processes;
+    const bool speaks; // of several ranks, rank 0 alone prints
     double t_end = 10, dt = 1e-3;
     std::optional<double> energy_tolerance;
     bool fail_on_drift = false, project_initial = false;
     ProjectionOptions projection;
-    std::string integrator(integrator_registry().front().name), output, events_output, shapes_output;
+    std::string integrator{integrator_registry().front().name}, output, events_output, shapes_output;
     const IntegratorEntry* entry = nullptr;
     EventOptions event_options;
     std::optional<double> rtol, atol;
     long every = 0;
     std::vector<std::pair<std::string, double>> inits;
-    // a sweep (ensemble.hpp): its options, and the others that decide its results
+    // a sweep (sweep.hpp): its options, and the others that decide its results
     SweepCommand sweep;
     bool sweeping = false, single_run_output = false;
-    try {
-        for (int i = 1; i < argc; ++i) {
-            const std::string a = argv[i];
-            auto value = [&](const char* opt) -> std::string {
-                if (i + 1 >= argc) throw UsageError{std::string(opt) + " needs a value"};
-                return argv[++i];
-            };
-            auto num = [&](const char* opt) {
-                const std::string v = value(opt);
-                if (auto x = number(v)) return *x;
-                throw UsageError{std::string(opt) + ": '" + v + "' is not a number"};
-            };
-            auto assignment = [&](const char* opt, const std::string& kv) {
-                const auto eq = kv.find('=');
-                if (eq == std::string::npos || eq == 0) throw UsageError{std::string(opt) + ": expected NAME=VALUE, got '" + kv + "'"};
-                const auto v = number(std::string_view(kv).substr(eq + 1));
-                if (!v) throw UsageError{std::string(opt) + ": '" + kv.substr(eq + 1) + "' is not a number (in '" + kv + "')"};
-                return std::pair{kv.substr(0, eq), *v};
-            };
-            if (a == "--grid" || a == "--uniform") {
-                const std::string v = value(a.c_str());
-                try {
-                    (a == "--grid" ? sweep.plan.grid : sweep.plan.uniform)
-                        .push_back(a == "--grid" ? parse_grid_axis(v) : parse_uniform_axis(v));
-                } catch (const std::invalid_argument& e) {
-                    throw UsageError{a + ": " + e.what()};
-                }
-                sweeping = true;
-            } else if (a == "--samples" || a == "--seed" || a == "--threads") {
-                const std::string v = value(a.c_str());
-                const auto k = whole_number(v);
-                if (!k || *k < (a == "--seed" ? 0 : 1)) throw UsageError{a + ": '" + v + "' is not a " + (a == "--seed" ? "non-negative" : "positive") + " whole number"};
-                if (a == "--samples") sweep.plan.samples = static_cast<std::size_t>(*k);
-                else if (a == "--seed") sweep.plan.seed = static_cast<std::uint64_t>(*k);
-                else sweep.threads = static_cast<unsigned>(std::min<long>(*k, 1024));
-                sweeping = sweeping || a != "--threads";
-            } else if (a == "--summary") {
-                sweep.summary = value("--summary");
-                sweeping = true;
-            } else if (a == "--lanes" || a == "--no-lanes") {
-                sweep.settings.lanes = a == "--lanes";
-            } else if (a == "--trajectories") {
-                sweep.trajectories = value("--trajectories");
-                if (sweep.trajectories.empty()) throw UsageError{"--trajectories needs a folder"};
-                sweeping = true;
-            } else if (a == "--t-end") t_end = num("--t-end");
-            else if (a == "--dt") dt = num("--dt");
-            else if (a == "--integrator") integrator = value("--integrator");
-            else if (a == "--rtol" || a == "--atol") {
-                const double v = num(a == "--rtol" ? "--rtol" : "--atol");
-                if (!(v > 0)) throw UsageError{a + " must be positive"};
-                (a == "--rtol" ? rtol : atol) = v;
-            }
-            else if (a == "--every") {
-                const std::string v = value("--every");
-                const auto k = whole_number(v);
-                if (!k || *k <= 0) throw UsageError{"--every: '" + v + "' is not a positive whole number"};
-                every = *k;
-            } else if (a == "--output" || a == "-o") output = value("--output"), single_run_output = true;
-            else if (a == "--energy-tolerance") {
-                energy_tolerance = num("--energy-tolerance");
-                if (!(*energy_tolerance > 0)) throw UsageError{"--energy-tolerance must be positive"};
-            } else if (a == "--fail-on-drift") fail_on_drift = true;
-            else if (a == "--events") events_output = value("--events"), single_run_output = true;
-            else if (a == "--shapes") shapes_output = value("--shapes"), single_run_output = true;
-            else if (a == "--rest-speed") {
-                event_options.rest_speed = num("--rest-speed");
-                if (!(event_options.rest_speed > 0)) throw UsageError{"--rest-speed must be positive"};
-            } else if (a == "--max-events-per-step") {
-                const std::string v = value("--max-events-per-step");
-                const auto k = whole_number(v);
-                if (!k || *k <= 0) throw UsageError{"--max-events-per-step: '" + v + "' is not a positive whole number"};
-                event_options.max_events_per_step = static_cast<std::size_t>(*k);
-            }
-            else if (a == "--project-initial") project_initial = true;
-            else if (a == "--projection-tolerance") {
-                projection.tolerance = num("--projection-tolerance");
-                if (!(projection.tolerance > 0)) throw UsageError{"--projection-tolerance must be positive"};
-            }
-            else if (a == "--param") {
-                const auto [name, v] = assignment("--param", value("--param"));
-                bool found = false;
-                for (const auto& [pname, set] : model.parameters)
-                    if (name == pname) {
-                        set(v);
-                        found = true;
-                    }
-                if (!found) throw UsageError{"unknown parameter '" + name + "' (try --help)"};
-            } else if (a == "--init") {
-                std::string list = value("--init");
-                std::size_t start = 0;
-                while (start <= list.size()) {
-                    const std::size_t comma = list.find(',', start);
-                    std::string item = list.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
-                    item.erase(0, item.find_first_not_of(' '));
-                    item.erase(item.find_last_not_of(' ') + 1);
-                    inits.push_back(assignment("--init", item));
-                    if (comma == std::string::npos) break;
-                    start = comma + 1;
-                }
-            } else if (a == "--help" || a == "-h") {
-                if (speaks) help(argv[0], model, model.system());
-                return 0;
-            } else throw UsageError{"unknown option '" + a + "' (try --help)"};
-        }
-        if (!(dt > 0)) throw UsageError{"--dt must be positive"};
-        if (!(t_end >= 0)) throw UsageError{"--t-end must not be negative"};
-        entry = find_integrator(integrator);
-        if (!entry) throw UsageError{"--integrator must be " + integrator_names() + ", not '" + integrator + "'"};
-        if ((rtol || atol) && !entry->tolerances)
-            throw UsageError{"--rtol and --atol go with --integrator " +
-                             integrator_names([](const IntegratorEntry& e) { return e.tolerances; })};
-        if (fail_on_drift && !energy_tolerance) throw UsageError{"--fail-on-drift needs --energy-tolerance"};
-        if (sweeping) {
-            if (sweep.summary.empty()) throw UsageError{"a sweep (--grid, --uniform, --samples) needs --summary FILE"};
-            if (sweep.plan.grid.empty() && sweep.plan.uniform.empty())
-                throw UsageError{"--summary, --samples and --seed go with --grid or --uniform"};
-            if (sweep.plan.uniform.empty() && sweep.plan.samples != 1) throw UsageError{"--samples needs --uniform NAME=LO:HI"};
-            if (single_run_output || energy_tolerance || project_initial || rtol || atol)
-                throw UsageError{"--output, --events, --shapes, --energy-tolerance, --project-initial, --rtol and "
-                                 "--atol are for one run; a sweep writes --summary (and --trajectories)"};
-            if (every > 0 && sweep.trajectories.empty()) throw UsageError{"--every goes with one run's --output or a sweep's --trajectories"};
-        } else if (processes && processes->size() > 1)
-            throw UsageError{"only a sweep (--grid, --uniform) runs on several MPI ranks; run one simulation without mpirun"};
-    } catch (const UsageError& e) {
-        if (speaks) std::fprintf(stderr, "%s: %s\n", argv[0], e.message.c_str());
-        return 2;
-    }
 
-    if (sweeping) {
-        sweep.settings.t_end = t_end;
-        sweep.settings.dt = dt;
-        sweep.settings.integrator = integrator;
-        sweep.settings.events = event_options;
-        sweep.settings.projection = projection;
-        sweep.inits = inits;
-        sweep.processes = processes;
-        if (every <= 0) { // about 5000 rows per trajectory, as one run's --output
-            every = std::max(1L, detail::whole_steps(t_end, dt) / 5000);
-        }
-        sweep.settings.every = every;
-        // What decides the results (and --trajectories: a resumed sweep writes the trajectories
-        // of the runs it adds where the first part wrote its own): every option but --threads
-        // and --summary, in order, then --lanes when the runs go in lanes (the default; a
-        // summary of --no-lanes, or of a phynjo from before lanes were the default, is not
-        // resumed in lanes).
-        for (int i = 1; i < argc; ++i) {
-            const std::string a = argv[i];
-            if ((a == "--threads" || a == "--summary") && i + 1 < argc) {
-                ++i;
-                continue;
+    Simulator(int c, char** v, const ModelCommandLine& m, SweepProcesses* p)
+        : argc(c), argv(v), model(m), processes(p), speaks(!p || p->rank() == 0) {}
+
+    /// Reads the options; false when --help was asked for (and printed). Throws UsageError.
+    bool parse();
+    /// What the options mean together. Throws UsageError.
+    void check();
+    /// A sweep (--grid, --uniform): run_sweep with these options.
+    int sweep_runs();
+    /// One run from the initial state to --t-end, its CSV written: the exit status.
+    int run();
+    /// The --init values set in `w` and, for a model with constraints, the initial state
+    /// checked (first projected with --project-initial): an exit status when that fails.
+    std::optional<int> set_initial_state(const LagrangianSystem& sys, World& w) const;
+    /// --events: the event log as CSV.
+    int write_events(const LagrangianSystem& sys, const EventMonitor& monitor) const;
+};
+
+bool Simulator::parse() {
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        auto value = [&](const char* opt) -> std::string {
+            if (i + 1 >= argc) throw UsageError{std::string(opt) + " needs a value"};
+            return argv[++i];
+        };
+        auto num = [&](const char* opt) {
+            const std::string v = value(opt);
+            if (auto x = number(v)) return *x;
+            throw UsageError{std::string(opt) + ": '" + v + "' is not a number"};
+        };
+        auto assignment = [&](const char* opt, const std::string& kv) {
+            const auto eq = kv.find('=');
+            if (eq == std::string::npos || eq == 0) throw UsageError{std::string(opt) + ": expected NAME=VALUE, got '" + kv + "'"};
+            const auto v = number(std::string_view(kv).substr(eq + 1));
+            if (!v) throw UsageError{std::string(opt) + ": '" + kv.substr(eq + 1) + "' is not a number (in '" + kv + "')"};
+            return std::pair{kv.substr(0, eq), *v};
+        };
+        if (a == "--grid" || a == "--uniform") {
+            const std::string v = value(a.c_str());
+            try {
+                (a == "--grid" ? sweep.plan.grid : sweep.plan.uniform)
+                    .push_back(a == "--grid" ? parse_grid_axis(v) : parse_uniform_axis(v));
+            } catch (const std::invalid_argument& e) {
+                throw UsageError{a + ": " + e.what()};
             }
-            if (a == "--lanes" || a == "--no-lanes") continue;
-            sweep.signature += (sweep.signature.empty() ? "" : " ") + a;
+            sweeping = true;
+        } else if (a == "--samples" || a == "--seed" || a == "--threads") {
+            const std::string v = value(a.c_str());
+            const auto k = whole_number(v);
+            if (!k || *k < (a == "--seed" ? 0 : 1)) throw UsageError{a + ": '" + v + "' is not a " + (a == "--seed" ? "non-negative" : "positive") + " whole number"};
+            if (a == "--samples") sweep.plan.samples = static_cast<std::size_t>(*k);
+            else if (a == "--seed") sweep.plan.seed = static_cast<std::uint64_t>(*k);
+            else sweep.threads = static_cast<unsigned>(std::min<long>(*k, 1024));
+            sweeping = sweeping || a != "--threads";
+        } else if (a == "--summary") {
+            sweep.summary = value("--summary");
+            sweeping = true;
+        } else if (a == "--lanes" || a == "--no-lanes") {
+            sweep.settings.lanes = a == "--lanes";
+        } else if (a == "--trajectories") {
+            sweep.trajectories = value("--trajectories");
+            if (sweep.trajectories.empty()) throw UsageError{"--trajectories needs a folder"};
+            sweeping = true;
+        } else if (a == "--t-end") t_end = num("--t-end");
+        else if (a == "--dt") dt = num("--dt");
+        else if (a == "--integrator") integrator = value("--integrator");
+        else if (a == "--rtol" || a == "--atol") {
+            const double v = num(a == "--rtol" ? "--rtol" : "--atol");
+            if (!(v > 0)) throw UsageError{a + " must be positive"};
+            (a == "--rtol" ? rtol : atol) = v;
         }
-        if (sweep.settings.lanes) sweep.signature += (sweep.signature.empty() ? "" : " ") + std::string("--lanes");
-        sweep.signature = std::string(model.model_name) + (sweep.signature.empty() ? "" : " ") + sweep.signature;
-        return run_sweep(sweep, model, argv[0]);
+        else if (a == "--every") {
+            const std::string v = value("--every");
+            const auto k = whole_number(v);
+            if (!k || *k <= 0) throw UsageError{"--every: '" + v + "' is not a positive whole number"};
+            every = *k;
+        } else if (a == "--output" || a == "-o") output = value("--output"), single_run_output = true;
+        else if (a == "--energy-tolerance") {
+            energy_tolerance = num("--energy-tolerance");
+            if (!(*energy_tolerance > 0)) throw UsageError{"--energy-tolerance must be positive"};
+        } else if (a == "--fail-on-drift") fail_on_drift = true;
+        else if (a == "--events") events_output = value("--events"), single_run_output = true;
+        else if (a == "--shapes") shapes_output = value("--shapes"), single_run_output = true;
+        else if (a == "--rest-speed") {
+            event_options.rest_speed = num("--rest-speed");
+            if (!(event_options.rest_speed > 0)) throw UsageError{"--rest-speed must be positive"};
+        } else if (a == "--max-events-per-step") {
+            const std::string v = value("--max-events-per-step");
+            const auto k = whole_number(v);
+            if (!k || *k <= 0) throw UsageError{"--max-events-per-step: '" + v + "' is not a positive whole number"};
+            event_options.max_events_per_step = static_cast<std::size_t>(*k);
+        }
+        else if (a == "--project-initial") project_initial = true;
+        else if (a == "--projection-tolerance") {
+            projection.tolerance = num("--projection-tolerance");
+            if (!(projection.tolerance > 0)) throw UsageError{"--projection-tolerance must be positive"};
+        }
+        else if (a == "--param") {
+            const auto [name, v] = assignment("--param", value("--param"));
+            bool found = false;
+            for (const auto& [pname, set] : model.parameters)
+                if (name == pname) {
+                    set(v);
+                    found = true;
+                }
+            if (!found) throw UsageError{"unknown parameter '" + name + "' (try --help)"};
+        } else if (a == "--init") {
+            std::string list = value("--init");
+            std::size_t start = 0;
+            while (start <= list.size()) {
+                const std::size_t comma = list.find(',', start);
+                std::string item = list.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+                item.erase(0, item.find_first_not_of(' '));
+                item.erase(item.find_last_not_of(' ') + 1);
+                inits.push_back(assignment("--init", item));
+                if (comma == std::string::npos) break;
+                start = comma + 1;
+            }
+        } else if (a == "--help" || a == "-h") {
+            if (speaks) help(argv[0], model, model.system());
+            return 0;
+        } else throw UsageError{"unknown option '" + a + "' (try --help)"};
     }
-    const LagrangianSystem sys = model.system();
-    if (!entry->constraints && sys.n_constraints > 0) {
-        const std::string instead = integrator_names([](const IntegratorEntry& e) { return e.constraints && e.stiff; });
-        std::fprintf(stderr, "%s: --integrator %s takes models without constraints; this one has %zu (use %s)\n", argv[0],
-                     integrator.c_str(), sys.n_constraints, instead.c_str());
-        return 2;
+    return true;
+}
+
+void Simulator::check() {
+    if (!(dt > 0)) throw UsageError{"--dt must be positive"};
+    if (!(t_end >= 0)) throw UsageError{"--t-end must not be negative"};
+    entry = find_integrator(integrator);
+    if (!entry) throw UsageError{"--integrator must be " + integrator_names() + ", not '" + integrator + "'"};
+    if ((rtol || atol) && !entry->tolerances)
+        throw UsageError{"--rtol and --atol go with --integrator " +
+                         integrator_names([](const IntegratorEntry& e) { return e.tolerances; })};
+    if (fail_on_drift && !energy_tolerance) throw UsageError{"--fail-on-drift needs --energy-tolerance"};
+    if (sweeping) {
+        if (sweep.summary.empty()) throw UsageError{"a sweep (--grid, --uniform, --samples) needs --summary FILE"};
+        if (sweep.plan.grid.empty() && sweep.plan.uniform.empty())
+            throw UsageError{"--summary, --samples and --seed go with --grid or --uniform"};
+        if (sweep.plan.uniform.empty() && sweep.plan.samples != 1) throw UsageError{"--samples needs --uniform NAME=LO:HI"};
+        if (single_run_output || energy_tolerance || project_initial || rtol || atol)
+            throw UsageError{"--output, --events, --shapes, --energy-tolerance, --project-initial, --rtol and "
+                             "--atol are for one run; a sweep writes --summary (and --trajectories)"};
+        if (every > 0 && sweep.trajectories.empty()) throw UsageError{"--every goes with one run's --output or a sweep's --trajectories"};
+    } else if (processes && processes->size() > 1)
+        throw UsageError{"only a sweep (--grid, --uniform) runs on several MPI ranks; run one simulation without mpirun"};
+}
+
+int Simulator::sweep_runs() {
+    sweep.settings.t_end = t_end;
+    sweep.settings.dt = dt;
+    sweep.settings.integrator = integrator;
+    sweep.settings.events = event_options;
+    sweep.settings.projection = projection;
+    sweep.inits = inits;
+    sweep.processes = processes;
+    if (every <= 0) { // about 5000 rows per trajectory, as one run's --output
+        every = std::max(1L, detail::whole_steps(t_end, dt) / 5000);
     }
-    World w = make_lagrangian_world(sys);
+    sweep.settings.every = every;
+    // What decides the results (and --trajectories: a resumed sweep writes the trajectories
+    // of the runs it adds where the first part wrote its own): every option but --threads
+    // and --summary, in order, then --lanes when the runs go in lanes (the default; a
+    // summary of --no-lanes, or of a phynjo from before lanes were the default, is not
+    // resumed in lanes).
+    for (int i = 1; i < argc; ++i) {
+        const std::string a = argv[i];
+        if ((a == "--threads" || a == "--summary") && i + 1 < argc) {
+            ++i;
+            continue;
+        }
+        if (a == "--lanes" || a == "--no-lanes") continue;
+        sweep.signature += (sweep.signature.empty() ? "" : " ") + a;
+    }
+    if (sweep.settings.lanes) sweep.signature += (sweep.signature.empty() ? "" : " ") + std::string("--lanes");
+    sweep.signature = std::string(model.model_name) + (sweep.signature.empty() ? "" : " ") + sweep.signature;
+    return run_sweep(sweep, model, argv[0]);
+}
+
+std::optional<int> Simulator::set_initial_state(const LagrangianSystem& sys, World& w) const {
     const std::size_t dof = sys.dof;
     for (const auto& [name, v] : inits) {
         const bool velocity = !name.empty() && name.back() == '\'';
@@ -356,6 +458,37 @@ int model_main(int argc, char** argv, const ModelCommandLine& model, SweepProces
             return 1;
         }
     }
+    return std::nullopt;
+}
+
+int Simulator::write_events(const LagrangianSystem& sys, const EventMonitor& monitor) const {
+    std::FILE* ev = std::fopen(events_output.c_str(), "w");
+    if (!ev) {
+        std::fprintf(stderr, "%s: cannot write %s\n", argv[0], events_output.c_str());
+        return 1;
+    }
+    RunOutput::state_header(ev, sys, "t,event");
+    std::fprintf(ev, "\n");
+    for (const EventRecord& r : monitor.log()) {
+        std::fprintf(ev, "%.17g,%s", r.time, sys.event_names[r.event].c_str());
+        for (double x : r.q) std::fprintf(ev, ",%.17g", x);
+        for (double x : r.qdot) std::fprintf(ev, ",%.17g", x);
+        std::fprintf(ev, "\n");
+    }
+    std::fclose(ev);
+    return 0;
+}
+
+int Simulator::run() {
+    const LagrangianSystem sys = model.system();
+    if (!entry->constraints && sys.n_constraints > 0) {
+        const std::string instead = integrator_names([](const IntegratorEntry& e) { return e.constraints && e.stiff; });
+        std::fprintf(stderr, "%s: --integrator %s takes models without constraints; this one has %zu (use %s)\n", argv[0],
+                     integrator.c_str(), sys.n_constraints, instead.c_str());
+        return 2;
+    }
+    World w = make_lagrangian_world(sys);
+    if (const auto failed = set_initial_state(sys, w)) return *failed;
     // Full steps, then a shortened last one: the run ends exactly at t_end (a ratio within
     // 1e-9 of a whole number counts as that number: 20 / 0.001 is 20000, not 20000.000000000004).
     const long steps = detail::whole_steps(t_end, dt);
@@ -363,67 +496,13 @@ int model_main(int argc, char** argv, const ModelCommandLine& model, SweepProces
     const bool short_step = last > 1e-9 * dt;
     if (every <= 0) every = std::max(1L, steps / 5000);
 
-    std::FILE* out = output.empty() ? stdout : std::fopen(output.c_str(), "w");
-    if (!out) {
-        std::fprintf(stderr, "%s: cannot write %s\n", argv[0], output.c_str());
-        return 1;
-    }
-    // `t` (and `,event`), then the coordinates and their velocities: both CSVs' header
-    auto state_header = [&](std::FILE* f, const char* first) {
-        std::fprintf(f, "%s", first);
-        for (const auto& n : sys.coordinate_names) std::fprintf(f, ",%s", n.c_str());
-        for (const auto& n : sys.coordinate_names) std::fprintf(f, ",%s'", n.c_str());
-    };
-    state_header(out, "t");
-    std::fprintf(out, ",E");
-    for (const auto& n : sys.constraint_names) std::fprintf(out, ",lambda_%s", n.c_str());
-    std::fprintf(out, "\n");
-    // --shapes: the points of every shape, one row per output row
-    std::FILE* shapes_file = nullptr;
-    std::vector<double> shape_points;
-    if (!shapes_output.empty()) {
-        shapes_file = std::fopen(shapes_output.c_str(), "w");
-        if (!shapes_file) {
-            std::fprintf(stderr, "%s: cannot write %s\n", argv[0], shapes_output.c_str());
-            if (out != stdout) std::fclose(out);
-            return 1;
-        }
-        std::fprintf(shapes_file, "t");
-        for (std::size_t k = 0; k < sys.n_shapes; ++k) {
-            const char* n = sys.shape_names[k].c_str();
-            if (sys.shape_is_sphere[k]) std::fprintf(shapes_file, ",%s_x,%s_y,%s_z", n, n, n);
-            else std::fprintf(shapes_file, ",%s_x1,%s_y1,%s_z1,%s_x2,%s_y2,%s_z2", n, n, n, n, n, n);
-            shape_points.resize(shape_points.size() + (sys.shape_is_sphere[k] ? 3 : 6));
-        }
-        std::fprintf(shapes_file, "\n");
-    }
-    std::vector<double> acc(dof), lambda(sys.n_constraints);
-    const double e0 = sys.energy(0, w.field(kGQ), w.field(kGV));
-    double drift = 0;
-    auto row = [&] {
-        const double e = sys.energy(w.time, w.field(kGQ), w.field(kGV));
-        drift = std::max(drift, std::fabs(e - e0));
-        std::fprintf(out, "%.17g", w.time);
-        for (std::size_t i = 0; i < dof; ++i) std::fprintf(out, ",%.17g", w.at(kGQ, static_cast<Index>(i)));
-        for (std::size_t i = 0; i < dof; ++i) std::fprintf(out, ",%.17g", w.at(kGV, static_cast<Index>(i)));
-        std::fprintf(out, ",%.17g", e);
-        if (sys.n_constraints > 0) {
-            sys.accelerations_and_multipliers(w.time, w.field(kGQ), w.field(kGV), acc, lambda);
-            for (double l : lambda) std::fprintf(out, ",%.17g", l);
-        }
-        std::fprintf(out, "\n");
-        if (shapes_file) {
-            if (!shape_points.empty()) sys.shape_positions(w.time, w.field(kGQ), shape_points);
-            std::fprintf(shapes_file, "%.17g", w.time);
-            for (double x : shape_points) std::fprintf(shapes_file, ",%.17g", x);
-            std::fprintf(shapes_file, "\n");
-        }
-    };
+    RunOutput csv(sys);
+    if (!csv.open(output, shapes_output, argv[0], w)) return 1;
     int status = 0;
     const bool with_events = sys.n_events > 0;
     EventMonitor monitor(sys, event_options);
     try {
-        row();
+        csv.row(w);
         // step k is dt long (the last one shortened to end at t_end) and ends at exactly k·dt:
         // the time is set, not accumulated
         const long total = steps + (short_step ? 1 : 0);
@@ -437,10 +516,10 @@ int model_main(int argc, char** argv, const ModelCommandLine& model, SweepProces
                 step_to(target, h);
                 w.time = target;
             } else if (!advance_with_events(monitor, w, target, h, step_to, extension)) {
-                row(); // stopped by an event: the state at it is the last row
+                csv.row(w); // stopped by an event: the state at it is the last row
                 return false;
             }
-            if (k % every == 0 || k == total) row();
+            if (k % every == 0 || k == total) csv.row(w);
             return true;
         };
         IntegratorSettings settings;
@@ -456,38 +535,38 @@ int model_main(int argc, char** argv, const ModelCommandLine& model, SweepProces
         std::fprintf(stderr, "%s: simulation stopped at t = %.17g: %s\n", argv[0], w.time, e.what());
         status = 1;
     }
-    if (out != stdout) std::fclose(out);
-    if (shapes_file) std::fclose(shapes_file);
+    csv.close();
     if (monitor.stopped() && !monitor.log().empty()) {
         const EventRecord& last_event = monitor.log().back();
         std::fprintf(stderr, "%s: the run stopped at t = %.17g: event '%s'\n", argv[0], last_event.time,
                      sys.event_names[last_event.event].c_str());
     }
-    if (!events_output.empty()) {
-        std::FILE* ev = std::fopen(events_output.c_str(), "w");
-        if (!ev) {
-            std::fprintf(stderr, "%s: cannot write %s\n", argv[0], events_output.c_str());
-            return 1;
-        }
-        state_header(ev, "t,event");
-        std::fprintf(ev, "\n");
-        for (const EventRecord& r : monitor.log()) {
-            std::fprintf(ev, "%.17g,%s", r.time, sys.event_names[r.event].c_str());
-            for (double x : r.q) std::fprintf(ev, ",%.17g", x);
-            for (double x : r.qdot) std::fprintf(ev, ",%.17g", x);
-            std::fprintf(ev, "\n");
-        }
-        std::fclose(ev);
-    }
+    if (!events_output.empty() && write_events(sys, monitor) != 0) return 1;
     if (status == 0 && energy_tolerance) {
-        const double limit = *energy_tolerance * std::max(1.0, std::fabs(e0));
-        if (drift > limit) {
+        const double limit = *energy_tolerance * std::max(1.0, std::fabs(csv.e0()));
+        if (csv.drift() > limit) {
             std::fprintf(stderr, "%s: the energy drifted by %.6g (beyond %.6g = %g * max(1, |E(0)|), E(0) = %.17g)\n", argv[0],
-                         drift, limit, *energy_tolerance, e0);
+                         csv.drift(), limit, *energy_tolerance, csv.e0());
             if (fail_on_drift) status = 3;
         }
     }
     return status;
+}
+
+} // namespace
+
+int model_main(int argc, char** argv, const ModelCommandLine& model) { return model_main(argc, argv, model, nullptr); }
+
+int model_main(int argc, char** argv, const ModelCommandLine& model, SweepProcesses* processes) {
+    Simulator simulator(argc, argv, model, processes);
+    try {
+        if (!simulator.parse()) return 0;
+        simulator.check();
+    } catch (const UsageError& e) {
+        if (simulator.speaks) std::fprintf(stderr, "%s: %s\n", argv[0], e.message.c_str());
+        return 2;
+    }
+    return simulator.sweeping ? simulator.sweep_runs() : simulator.run();
 }
 
 } // namespace phynjo::runtime

@@ -1,4 +1,4 @@
-// Strict readers of command-line numbers (internal: model_main.cpp, ensemble.cpp): a whole
+// Strict readers of command-line numbers (internal: model_main.cpp, sweep_plan.cpp, runs.cpp, sweep.cpp): a whole
 // argument or nothing — "1e-2x", "abc", "" are not numbers.
 #pragma once
 #include <charconv>

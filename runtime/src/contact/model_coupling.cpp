@@ -1,0 +1,113 @@
+// The contact solver's coupling of model spheres (scenes): a model's M, G and B = P M⁻¹Jᵀ at the step's state, impulses on its spheres as changes of q' (or q), the model written back (solver.hpp).
+#include "solver.hpp"
+#include "cholesky.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace phynjo::runtime::contact_detail {
+
+void Solver::gather_model(const World& w, ModelScratch& m, std::size_t index) {
+    const LagrangianSystem& s = *m.placed.system;
+    const std::size_t n = s.dof, ns = m.placed.spheres.size(), nb = 3 * ns, nc = s.n_constraints;
+    for (std::size_t i = 0; i < n; ++i) {
+        m.q[i] = w.at(q_field_, m.placed.coordinates[i]);
+        m.qd[i] = w.at(qd_field_, m.placed.coordinates[i]);
+        if (!std::isfinite(m.q[i]) || !std::isfinite(m.qd[i]))
+            throw Error("contact: the state of model '" + m.placed.name + "' is not finite");
+    }
+    const double t = w.time;
+    m.sync.q = m.q; // sizes fixed: no allocation
+    m.sync.qd = m.qd;
+    sphere_states(m.placed, t, m.sync); // centres, velocities, J (3·ns × n, row-major)
+    s.mass_matrix(t, m.q, m.qd, m.M);
+    if (!cholesky(m.M.data(), n))
+        throw Error("contact: the mass matrix of model '" + m.placed.name + "' is not positive definite at t = " +
+                    std::to_string(t) + " s: its spheres' effective masses are undefined");
+    // B = M⁻¹ Jᵀ (n × 3·ns, row-major), column by column.
+    for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t c = 0; c < nb; ++c) m.B[i * nb + c] = m.sync.J[c * n + i];
+    for (std::size_t c = 0; c < nb; ++c) cholesky_solve(m.M.data(), n, &m.B[c], nb);
+    if (nc > 0) { // B ← B − M⁻¹Gᵀ (G M⁻¹ Gᵀ)⁻¹ G B: the impulses keep G Δq' = 0
+        s.constraint_matrix(t, m.q, m.G); // nc × n
+        for (std::size_t i = 0; i < n; ++i)
+            for (std::size_t k = 0; k < nc; ++k) m.MinvGt[i * nc + k] = m.G[k * n + i];
+        for (std::size_t k = 0; k < nc; ++k) cholesky_solve(m.M.data(), n, &m.MinvGt[k], nc);
+        for (std::size_t a = 0; a < nc; ++a)
+            for (std::size_t b = 0; b < nc; ++b) {
+                double v = 0;
+                for (std::size_t i = 0; i < n; ++i) v += m.G[a * n + i] * m.MinvGt[i * nc + b];
+                m.S[a * nc + b] = v;
+            }
+        if (!cholesky(m.S.data(), nc))
+            throw Error("contact: the constraints of model '" + m.placed.name + "' are dependent at t = " + std::to_string(t) +
+                        " s (G M⁻¹ Gᵀ is singular)");
+        for (std::size_t a = 0; a < nc; ++a)
+            for (std::size_t c = 0; c < nb; ++c) {
+                double v = 0;
+                for (std::size_t i = 0; i < n; ++i) v += m.G[a * n + i] * m.B[i * nb + c];
+                m.GB[a * nb + c] = v;
+            }
+        for (std::size_t c = 0; c < nb; ++c) cholesky_solve(m.S.data(), nc, &m.GB[c], nb);
+        for (std::size_t i = 0; i < n; ++i)
+            for (std::size_t c = 0; c < nb; ++c) {
+                double v = 0;
+                for (std::size_t a = 0; a < nc; ++a) v += m.MinvGt[i * nc + a] * m.GB[a * nb + c];
+                m.B[i * nb + c] -= v;
+            }
+    }
+    for (std::size_t j = 0; j < ns; ++j) {
+        double a[3][3];
+        for (std::size_t r = 0; r < 3; ++r)
+            for (std::size_t c = 0; c < 3; ++c) {
+                double v = 0;
+                for (std::size_t i = 0; i < n; ++i) v += m.sync.J[(3 * j + r) * n + i] * m.B[i * nb + 3 * j + c];
+                a[r][c] = v;
+            }
+        double* A = &m.A[6 * j]; // J_s B_s: symmetric up to round-off
+        A[0] = a[0][0], A[1] = a[1][1], A[2] = a[2][2];
+        A[3] = 0.5 * (a[0][1] + a[1][0]), A[4] = 0.5 * (a[0][2] + a[2][0]), A[5] = 0.5 * (a[1][2] + a[2][1]);
+        Body& b = bodies_[m.first + j];
+        b = Body{};
+        b.model = static_cast<int>(index);
+        b.sphere = static_cast<int>(j);
+        b.r = m.placed.radii[j];
+        for (std::size_t k = 0; k < 3; ++k) {
+            b.p[k] = m.sync.P[3 * j + k];
+            b.v[k] = m.sync.V[3 * j + k];
+        }
+    }
+}
+
+void Solver::model_impulse(const Body& X, const double* lambda, std::vector<Body>& B, bool position) {
+    ModelScratch& m = models_[static_cast<std::size_t>(X.model)];
+    const std::size_t n = m.q.size(), ns = m.placed.spheres.size(), nb = 3 * ns;
+    const std::size_t c = 3 * static_cast<std::size_t>(X.sphere);
+    for (std::size_t i = 0; i < n; ++i) {
+        const double* row = &m.B[i * nb + c];
+        m.dq[i] = row[0] * lambda[0] + row[1] * lambda[1] + row[2] * lambda[2];
+    }
+    std::vector<double>& target = position ? m.q : m.qd;
+    for (std::size_t i = 0; i < n; ++i) target[i] += m.dq[i];
+    for (std::size_t j = 0; j < ns; ++j) {
+        Body& b = B[m.first + j];
+        double* out = position ? b.p : b.v;
+        for (std::size_t k = 0; k < 3; ++k) {
+            const double* row = &m.sync.J[(3 * j + k) * n];
+            double d = 0;
+            for (std::size_t i = 0; i < n; ++i) d += row[i] * m.dq[i];
+            out[k] += d;
+        }
+    }
+}
+
+void Solver::scatter_model(World& w, ModelScratch& m) {
+    for (std::size_t i = 0; i < m.q.size(); ++i) {
+        w.at(q_field_, m.placed.coordinates[i]) = m.q[i];
+        w.at(qd_field_, m.placed.coordinates[i]) = m.qd[i];
+    }
+    sync_model_spheres(m.placed, q_field_, qd_field_, w.time, w, m.sync); // the exact centres at the corrected q
+}
+
+} // namespace phynjo::runtime::contact_detail
