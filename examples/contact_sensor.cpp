@@ -1,4 +1,4 @@
-// The seed's contact sensor: a latch set when a penetration signal is seen and cleared on
+// A contact sensor: a latch set when a penetration signal is seen and cleared on
 // the next tick (one tick of hysteresis), run in parallel with a second, unrelated sensor.
 //   sensorWF = seq(run(set), run(clear));   fullWF = par(sensorWF, otherSensorWF)
 #include "phynjo/runtime/runtime.hpp"

@@ -1,5 +1,6 @@
-// Instantiates the expression grammar (the only translation unit with X3 templates for it)
-// and runs it with the diagnostics this project promises.
+// Instantiates the expression grammar (the only translation unit with its X3 definitions:
+// the statement grammar in lag.cpp calls the rules instantiated here) and runs it with the
+// diagnostics this project promises.
 #include "phynjo/grammar/expression.hpp"
 
 #include "expression_def.hpp"
@@ -8,6 +9,12 @@
 #include <cstdio>
 
 namespace phynjo::grammar {
+
+namespace parser {
+BOOST_SPIRIT_INSTANTIATE(name_type, iterator_type, context_type)
+BOOST_SPIRIT_INSTANTIATE(unit_type, iterator_type, context_type)
+BOOST_SPIRIT_INSTANTIATE(expression_type, iterator_type, context_type)
+} // namespace parser
 
 Positions::Span Positions::of(const boost::spirit::x3::position_tagged& node) const {
     if (node.id_first < 0) return {0, 1};

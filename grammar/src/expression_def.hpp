@@ -7,53 +7,11 @@
 //   postfix    := primary '\''*
 //   primary    := number | name '(' expression ')' | name | '(' expression ')'
 // Recursion (parentheses, calls, exponents) passes through `guarded[…]`, which counts depth.
-#include "ast_adapted.hpp"
+#include "expression_rules.hpp"
 
-#include <boost/spirit/home/x3.hpp>
 #include <boost/spirit/home/x3/support/utility/annotate_on_success.hpp>
 
-#include <memory>
-#include <string>
-
 namespace phynjo::grammar::parser {
-
-namespace x3 = boost::spirit::x3;
-
-struct position_cache_tag;
-struct depth_tag;
-struct error_report_tag;
-
-/// The first expectation failure of a parse: where it happened and what X3 expected there
-/// (a rule's name or a literal).
-struct ExpectationReport {
-    const char* where = nullptr;
-    std::string which;
-};
-
-/// The one X3 error handler of both parsers (the calc9/rexpr pattern): attached to the
-/// entry rule of each (`input` here, `statement` in lag_def.hpp), it records the expectation
-/// failure for the diagnostic (lexical::report_expected words it) and fails the parse.
-struct error_handler {
-    template <typename Iterator, typename Exception, typename Context>
-    x3::error_handler_result on_error(Iterator&, Iterator const&, Exception const& x, Context const& context) const {
-        ExpectationReport& report = x3::get<error_report_tag>(context).get();
-        if (!report.where) {
-            report.where = std::to_address(x.where());
-            report.which = x.which();
-        }
-        return x3::error_handler_result::fail;
-    }
-};
-
-/// Thrown when nesting exceeds the limit; carries where.
-struct DepthExceeded {
-    const char* where;
-};
-
-struct DepthCounter {
-    std::size_t depth = 0;
-    std::size_t limit = 200;
-};
 
 /// `guarded[p]`: p, with the nesting depth counted against DepthCounter::limit.
 template <typename Subject>
@@ -85,17 +43,7 @@ struct guard_gen {
 };
 inline constexpr guard_gen guarded{};
 
-/// Records the source range of every position-tagged node.
-struct annotate_position {
-    template <typename T, typename Iterator, typename Context>
-    void on_success(Iterator const& first, Iterator const& last, T& ast, Context const& context) const {
-        if constexpr (std::is_base_of_v<x3::position_tagged, T>)
-            x3::get<position_cache_tag>(context).get().annotate(ast, first, last);
-    }
-};
-
 struct number_class : annotate_position {};
-struct name_class : annotate_position {};
 struct call_class : annotate_position {};
 struct paren_class : annotate_position {};
 struct primary_class {};
@@ -105,12 +53,9 @@ struct unary_class : annotate_position {};
 struct product_op_class : annotate_position {};
 struct product_class : annotate_position {};
 struct sum_op_class : annotate_position {};
-struct unit_class : annotate_position {};
-struct expression_class : annotate_position {};
 struct input_class : error_handler {};
 
 inline const x3::rule<number_class, ast::Number> number = "number";
-inline const x3::rule<name_class, ast::Name> name = "name";
 inline const x3::rule<call_class, ast::Call> call = "call";
 inline const x3::rule<paren_class, ast::Paren> paren = "parenthesis";
 inline const x3::rule<primary_class, ast::Primary> primary = "operand";
@@ -120,8 +65,6 @@ inline const x3::rule<unary_class, ast::Unary> unary = "operand";
 inline const x3::rule<product_op_class, ast::ProductOp> product_op = "operand";
 inline const x3::rule<product_class, ast::Product> product = "operand";
 inline const x3::rule<sum_op_class, ast::SumOp> sum_op = "operand";
-inline const x3::rule<unit_class, ast::Unit> unit = "unit";
-inline const x3::rule<expression_class, ast::Expression> expression = "expression";
 /// The entry rule: an expression, with the error handler.
 inline const x3::rule<input_class, ast::Expression> input = "expression";
 
@@ -148,8 +91,5 @@ inline const auto input_def = expression;
 
 BOOST_SPIRIT_DEFINE(number, name, call, paren, primary, postfix, power, unary, product_op, product, sum_op, unit,
                     expression, input)
-
-/// White space and `#` comments.
-inline const auto skipper = x3::char_(" \t\r\n\f\v") | x3::lexeme['#' >> *(x3::char_ - x3::lit('\n'))];
 
 } // namespace phynjo::grammar::parser

@@ -1,8 +1,9 @@
 #pragma once
-// X3 rules of .lag statements (docs/language.md, *Statements*), on top of the expression rules.
+// X3 rules of .lag statements (docs/language.md, *Statements*), on the expression rules
+// declared in expression_rules.hpp (defined and instantiated in expression.cpp).
 // A statement is one logical line (lag.cpp splits the file first: a newline inside open
 // parentheses is white space), so the rules see one statement at a time.
-#include "expression_def.hpp"
+#include "expression_rules.hpp"
 
 namespace phynjo::grammar::parser {
 

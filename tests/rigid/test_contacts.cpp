@@ -1,5 +1,5 @@
 // Contacts: bounce heights (e²), sliding to rolling at the time theory predicts, Newton's
-// cradle, simultaneous impacts (Gauss–Seidel vs the seed's Jacobi), a settling pile, guards.
+// cradle, simultaneous impacts (Gauss–Seidel vs Jacobi), a settling pile, guards.
 #include "phynjo/runtime/runtime.hpp"
 
 #include <catch2/catch.hpp>
@@ -95,7 +95,7 @@ TEST_CASE("Newton's cradle passes the momentum to the last ball", "[contact][phy
     CHECK(total_linear_momentum(w).x() == Approx(1.0).epsilon(1e-12));
 }
 
-TEST_CASE("simultaneous impacts: Gauss-Seidel conserves energy, the seed's Jacobi passes do not", "[contact][physics]") {
+TEST_CASE("simultaneous impacts: Gauss-Seidel conserves energy, Jacobi passes do not", "[contact][physics]") {
     // Two balls hit a resting middle ball from both sides at once, e = 1. Energy and momentum
     // conservation with the symmetry give the outer balls reversed and the middle at rest.
     auto run = [](ContactScheme scheme) {

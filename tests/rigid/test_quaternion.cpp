@@ -83,7 +83,7 @@ TEST_CASE("the exponential update is exact for constant angular velocity and sta
     CHECK(worst_norm < 1e-15);
 }
 
-TEST_CASE("the seed's first-order update converges with order 1 and stays unit", "[rigid][quaternion]") {
+TEST_CASE("the first-order update converges with order 1 and stays unit", "[rigid][quaternion]") {
     // A body-frame angular velocity that varies in time; the update takes ω at the start of
     // each step (explicit Euler), so its global error is O(h). Reference: the exponential map
     // with the midpoint body rate ω_B(t + h/2) rotated to the world frame, at a 100× finer step.

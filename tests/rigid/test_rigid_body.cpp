@@ -99,8 +99,8 @@ TEST_CASE("angular momentum error of the top falls as dt squared", "[rigid][phys
     CHECK(order < 2.2);
 }
 
-TEST_CASE("the seed's explicit gyroscopic step is first order and drifts in energy", "[rigid][physics]") {
-    // Kept for fidelity to the seed; the default scheme exists because of this drift.
+TEST_CASE("the explicit gyroscopic step is first order and drifts in energy", "[rigid][physics]") {
+    // Kept as the first design had it; the default scheme exists because of this drift.
     World w = top({1, 2, 3}, {0.3, 1.0, 0.5});
     const double E0 = rigid_kinetic_energy(w);
     Stepper s(rigid_leapfrog(Force3D{}, all_bodies(w), w.layout_ptr(), GyroscopicScheme::explicit_euler));

@@ -1,4 +1,4 @@
-// Components, the registry and component sets; the seed's literals.
+// Components, the registry and component sets; the literals.
 #include "phynjo/runtime/runtime.hpp"
 
 #include <catch2/catch.hpp>

@@ -1,4 +1,4 @@
-// The Boolean layer: the seed's contact sensor with one-tick hysteresis, combined in
+// The Boolean layer: a contact sensor with one-tick hysteresis, combined in
 // parallel with a second sensor, through the same Process interpreter.
 #include "phynjo/runtime/runtime.hpp"
 
@@ -10,7 +10,7 @@ namespace {
 
 /// A sensor: `raw` is the input signal (written by the environment), `latched` is set when
 /// raw is seen and cleared on the next tick: seq(set, clear) gives exactly one tick of
-/// hysteresis, like the seed's sensorWF = ESeq (ERun setRule) (ERun clearRule).
+/// hysteresis, like sensorWF = ESeq (ERun setRule) (ERun clearRule).
 EventWorkflow sensor(const FlagWorld& shape, Index raw, Index latched, const std::string& name) {
     EventRule set{name + ".set", ComponentSet{latched}, ComponentSet{raw},
                   [raw](const FlagLit& in, std::span<std::uint8_t> out) {

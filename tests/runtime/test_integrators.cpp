@@ -79,7 +79,7 @@ TEST_CASE("measured convergence orders: 1, 2, 2, 4, 4", "[runtime][integrators]"
 }
 
 TEST_CASE("energy after one step is E + O(dt²) over random worlds", "[runtime][integrators]") {
-    // The seed's law totalEnergy (step dt w) = totalEnergy w + O(dt²): |ΔE(h)|/h² must stay
+    // The law totalEnergy (step dt w) = totalEnergy w + O(dt²): |ΔE(h)|/h² must stay
     // bounded as h shrinks (an O(dt) error would double it at every halving).
     check_property("|ΔE(h)|/h² bounded", [] {
         const int n = *rc::gen::inRange(1, 6);

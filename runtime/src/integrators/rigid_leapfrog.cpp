@@ -1,7 +1,7 @@
 // The rigid-body Strang splitting:
 //   drift_trans(½) · drift_rot(½) · kick_force3d(1) · drift_rot(½) · drift_trans(½)
 // One force evaluation per step. Order 2 and symmetric with the exponential rotation update
-// and the implicit-midpoint gyroscopic kick (first order with the seed's explicit options).
+// and the implicit-midpoint gyroscopic kick (first order with the explicit options).
 // Reference: G. Strang, SIAM J. Numer. Anal. 5, 506 (1968); for the free rigid body,
 // Hairer, Lubich, Wanner, Geometric Numerical Integration, §VII.5.
 #include "phynjo/runtime/integrators/rigid_leapfrog.hpp"

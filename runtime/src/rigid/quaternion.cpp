@@ -50,7 +50,7 @@ Eigen::Vector3d Quaternion::rotate(const Eigen::Vector3d& v) const noexcept {
 }
 
 Quaternion integrate_first_order(const Quaternion& q, const Eigen::Vector3d& om, double dt) noexcept {
-    // Q ⊗ (0, ω): the seed's mw, mx, my, mz.
+    // Q ⊗ (0, ω): its components mw, mx, my, mz.
     const double mw = -q.x * om.x() - q.y * om.y() - q.z * om.z();
     const double mx = q.w * om.x() + q.y * om.z() - q.z * om.y();
     const double my = q.w * om.y() - q.x * om.z() + q.z * om.x();

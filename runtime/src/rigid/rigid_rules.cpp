@@ -1,4 +1,4 @@
-// The rules of a rigid world: the runes of the seed (Physics.RigidBodyUtilities.Rigid3DNR)
+// The rules of a rigid world: the runes (Physics.RigidBodyUtilities.Rigid3DNR)
 // on flat state.
 #include "phynjo/runtime/rigid/rigid_rules.hpp"
 

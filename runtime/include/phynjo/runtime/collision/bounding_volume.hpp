@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// Bounding volumes of the seed's Physics.Collision.Types: axis-aligned boxes, spheres and
+/// Bounding volumes: axis-aligned boxes, spheres and
 /// oriented boxes, their containment and intersection tests (closed sets: touching counts
 /// as intersecting), aabb_union and the conservative AABB of a sphere or an OBB.
 #include "phynjo/runtime/rigid/quaternion.hpp"

@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// The seed's Collision.Manager façade: build it with a broad phase and the bounding
+/// The collision manager, a façade: build it with a broad phase and the bounding
 /// volumes, update the volumes every step, run the broad phase. Swapping the broad phase is
 /// one argument; nothing downstream changes (every broad phase yields the same sorted pairs).
 #include "phynjo/runtime/collision/broad_phase.hpp"

@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// Narrow phase (the seed's Collision.NarrowPhase): candidate pairs from a broad phase become
+/// Narrow phase: candidate pairs from a broad phase become
 /// contacts between sphere shapes (bodies with radius > 0), and spheres meet static planes.
 #include "phynjo/runtime/collision/broad_phase.hpp"
 #include "phynjo/runtime/core/world.hpp"
@@ -16,7 +16,7 @@ namespace phynjo::runtime {
 struct Plane {
     Eigen::Vector3d normal = Eigen::Vector3d(0, 1, 0);
     double offset = 0; ///< m
-    /// The seed's ground: y = 0, normal +y.
+    /// The ground: y = 0, normal +y.
     static Plane ground() { return {}; }
     /// Throws std::invalid_argument unless the normal is unit (within 1e-9) and all is finite.
     void validate() const;

@@ -1,18 +1,18 @@
 #pragma once
 /// \file
-/// Contacts between spheres and with static planes, as a rule with a domain: the seed's
+/// Contacts between spheres and with static planes, as a rule with a domain: the
 /// impulse formulas (restitution curve e(v_n), Coulomb friction curve μ(|v_t|), effective
 /// masses with world inertia tensors, Baumgarte position correction with β and slop), solved
-/// by the seed's Jacobi passes or by Gauss–Seidel (sequential impulses).
+/// by Jacobi passes or by Gauss–Seidel (sequential impulses).
 ///
 /// One application of `contact_rule` (after the forces' kick, before the drift):
 ///  1. broad phase (CollisionManager) and narrow phase at the current positions;
 ///  2. position correction, `position_iterations` passes: for every contact with depth δ
 ///     beyond the slop, p_a += β (δ − slop) w_a n, p_b −= β (δ − slop) w_b n, with
-///     w = (1/m)/(1/m_a + 1/m_b) (the seed's split of the depth by inverse masses);
+///     w = (1/m)/(1/m_a + 1/m_b) (the depth split by inverse masses);
 ///  3. collisions, up to `restitution_iterations` passes: a contact that is approaching
 ///     (v_n < 0), will touch within the step (s + v_n dt < 0) and has e(|v_n|) > 0 takes the
-///     seed's impulse j_n = −(1 + e) v_n / K_n⁻¹ with friction j_t = clip(−|v_t|/K_t⁻¹, ±μ j_n)
+///     impulse j_n = −(1 + e) v_n / K_n⁻¹ with friction j_t = clip(−|v_t|/K_t⁻¹, ±μ j_n)
 ///     (so a row of touching balls passes an impact along, as in Newton's cradle). A contact
 ///     that carried a load in the previous step (found in the warm-start cache) is resting,
 ///     not colliding, and takes no restitution: a settling pile does not rattle;
@@ -49,7 +49,7 @@ struct ContactMaterial {
 
 enum class ContactScheme {
     gauss_seidel, ///< sequential impulses: each contact sees the impulses applied before it (default)
-    /// The seed's passes: every contact of a pass sees the state at the start of the pass and
+    /// Jacobi passes: every contact of a pass sees the state at the start of the pass and
     /// the corrections are added after it (parallel in principle). Each body's mass is split
     /// evenly among its contacts (Tonge et al. 2012) so that the corrections of a body with
     /// several contacts do not overshoot; without that a pile never comes to rest.
@@ -83,10 +83,10 @@ std::vector<std::string> contact_cache_fields(int slots = 16);
 /// phynjo::runtime::Error if a material curve leaves its range.
 NumericRule contact_rule(const ComponentSet& bodies, std::vector<Plane> planes, ContactMaterial material,
                          ContactOptions options, const std::shared_ptr<const Layout>& layout, bool sphere_pairs = true);
-/// The seed's contactGroundF: spheres on the ground y = 0.
+/// Spheres on the ground y = 0 (contactGroundF).
 NumericRule contact_ground(const ComponentSet& bodies, ContactMaterial material, ContactOptions options,
                            const std::shared_ptr<const Layout>& layout);
-/// The seed's contactSpheresF: sphere–sphere contacts only.
+/// Sphere–sphere contacts only (contactSpheresF).
 NumericRule contact_spheres(const ComponentSet& bodies, ContactMaterial material, ContactOptions options,
                             const std::shared_ptr<const Layout>& layout);
 

@@ -32,7 +32,7 @@ struct EventRule {
     std::function<void(std::uint64_t tick, std::span<const std::uint8_t> slice, Phenomenon& out)> events;
 };
 
-/// The seed's ruleToAction: split the flags into the domain slice and the rest, step the
+/// An event rule as an action (ruleToAction): split the flags into the domain slice and the rest, step the
 /// slice, paste it back; the interpreter advances the tick. Domains above 256 flags use a
 /// heap buffer per step.
 Action<FlagWorld> rule_to_action(const EventRule& rule, std::shared_ptr<const Layout> layout);
@@ -48,7 +48,7 @@ struct WorkflowTraits<FlagWorld> {
 /// `EventWorkflow::run(rule, world_shape)`.
 using EventWorkflow = Workflow<FlagWorld>;
 
-/// A helper like the seed's `epsilon component tick`: one event.
+/// One event of `component` at `tick` (`epsilon component tick`).
 inline Event epsilon(Index component, std::uint64_t tick, std::string what) { return Event{tick, component, std::move(what)}; }
 
 /// For the checked interpreter: the first flag outside `writes` that differs, described.

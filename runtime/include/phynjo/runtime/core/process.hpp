@@ -43,7 +43,7 @@ struct StepContext {
 template <typename W>
 struct Action {
     std::string name;
-    Domain writes; ///< the entries it may change (the seed's domain)
+    Domain writes; ///< the entries it may change (its domain)
     Domain reads;  ///< the entries it may read besides its writes
     std::function<void(W&, const StepContext&)> run;
     std::shared_ptr<const Layout> layout; ///< for naming entries in messages

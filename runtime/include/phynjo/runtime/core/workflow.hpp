@@ -90,7 +90,7 @@ struct RunReport {
     std::string where;          ///< `field:component` of the first non-finite entry, if that was the reason
 };
 
-/// Steps a world with a workflow: the built form of the seed's `step :: Δt -> world -> world`.
+/// Steps a world with a workflow: the built form of `step :: Δt -> world -> world`.
 class Stepper {
 public:
     explicit Stepper(const NumericWorkflow& workflow, Executor* executor = nullptr)

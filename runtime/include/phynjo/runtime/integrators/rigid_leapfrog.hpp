@@ -7,7 +7,7 @@ namespace phynjo::runtime {
 
 /// The rigid-body Strang splitting
 ///   drift_trans(½) · drift_rot(½) · kick_force3d(1) · drift_rot(½) · drift_trans(½):
-/// one force evaluation per step, order 2 (first order with the seed's explicit schemes).
+/// one force evaluation per step, order 2 (first order with the explicit schemes).
 NumericWorkflow rigid_leapfrog(const Force3D& force, const ComponentSet& bodies,
                                const std::shared_ptr<const Layout>& layout,
                                GyroscopicScheme scheme = GyroscopicScheme::implicit_midpoint);

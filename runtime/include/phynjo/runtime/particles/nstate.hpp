@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// NState, the seed's 1-D world of point masses: positions q (m), momenta p (kg·m/s) and
+/// NState, the 1-D world of point masses: positions q (m), momenta p (kg·m/s) and
 /// masses m (kg) per component, and its drift rule. Forces and the kick: force1d.hpp.
 #include "phynjo/runtime/core/workflow.hpp"
 
@@ -19,7 +19,7 @@ inline constexpr FieldId kQ = 0, kP = 1, kM = 2;
 World make_nstate(const Registry& components, const std::vector<double>& masses = {},
                   const std::vector<std::string>& extra_fields = {});
 
-/// Lookups and updates in the seed's vocabulary.
+/// Lookups and updates (lookup, insert, adjust: the glossary of docs/architecture.md).
 inline double lookup_pos(Index c, const World& w) { return w.at(kQ, c); }
 inline double lookup_mom(Index c, const World& w) { return w.at(kP, c); }
 inline void insert_pos(Index c, double q, World& w) { w.at(kQ, c) = q; }

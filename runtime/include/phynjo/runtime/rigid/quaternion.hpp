@@ -50,7 +50,7 @@ struct Quaternion {
     friend bool operator==(const Quaternion&, const Quaternion&) = default;
 };
 
-/// The seed's `integrateQuat`: one explicit Euler step of Q̇ = ½ Q ⊗ (0, ω_B) (ω_B: body-frame
+/// One explicit Euler step (`integrateQuat`) of Q̇ = ½ Q ⊗ (0, ω_B) (ω_B: body-frame
 /// angular velocity, rad/s) followed by renormalisation. First order; the renormalisation
 /// keeps ‖Q‖ = 1 to round-off.
 Quaternion integrate_first_order(const Quaternion& q, const Eigen::Vector3d& omega_body, double dt) noexcept;

@@ -27,7 +27,7 @@ struct RigidBody {
     void validate(std::string_view label) const;
 };
 
-/// The initial state of one body (the seed's insertRigid).
+/// The initial state of one body (insertRigid).
 struct RigidInit {
     Eigen::Vector3d position = Eigen::Vector3d::Zero();         ///< centre of mass, m
     Quaternion orientation = Quaternion::identity();            ///< must be unit (within 1e-6)

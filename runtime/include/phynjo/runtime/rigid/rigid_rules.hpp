@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// The rules of a rigid world — the seed's runes `driftTrans`, `driftRot` and `kickForce3D` —
+/// The rules of a rigid world — the runes `driftTrans`, `driftRot` and `kickForce3D` —
 /// each with its domain: translation drift, rotation drift, and the force/torque kick that
 /// integrates Euler's equations. integrators/rigid_leapfrog.hpp composes them.
 #include "phynjo/runtime/rigid/rigid_world.hpp"
@@ -10,7 +10,7 @@ namespace phynjo::runtime {
 /// How drift_rot turns ω into a new orientation.
 enum class RotationUpdate {
     exponential,  ///< Q' = exp(½ h ω_W) ⊗ Q: exact for constant ω (default)
-    first_order,  ///< the seed's integrateQuat: Q + ½ h Q ⊗ (0, ω_B), renormalised; order 1
+    first_order,  ///< integrateQuat: Q + ½ h Q ⊗ (0, ω_B), renormalised; order 1
 };
 
 /// How kick_force3d integrates Euler's equations over its step h.
@@ -19,7 +19,7 @@ enum class GyroscopicScheme {
     /// iteration. Symmetric, order 2; with τ = 0 it conserves |I ω_B| and ½ ω_B·I ω_B exactly
     /// (both are quadratic invariants, which the implicit midpoint rule preserves).
     implicit_midpoint,
-    /// The seed's explicit step ω_B' = ω_B + h I⁻¹(τ_B − ω_B × I ω_B). Order 1; energy drifts.
+    /// The explicit step ω_B' = ω_B + h I⁻¹(τ_B − ω_B × I ω_B). Order 1; energy drifts.
     explicit_euler,
 };
 

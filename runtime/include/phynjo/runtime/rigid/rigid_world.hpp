@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// The rigid world: the seed's RigidState as fields (position, orientation quaternion,
+/// The rigid world: a body's state (RigidState) as fields (position, orientation quaternion,
 /// velocity and world angular velocity per component, with the mass properties), views of
 /// it, and its conserved quantities.
 ///

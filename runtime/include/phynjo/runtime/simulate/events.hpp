@@ -184,7 +184,7 @@ private:
 };
 
 // ---- The model's events on the runtime's event layer (core/event.hpp) -------------------
-// The physical layer signals, the Boolean layer reacts (the seed's sensors): after each step
+// The physical layer signals, the Boolean layer reacts (sensors): after each step
 // of the run, signal_events raises one flag per model event that fired; event rules of the
 // user's read those flags in an EventWorkflow; model_events_rule turns them into the
 // Phenomenon (the event layer's log) and lowers them again.
