@@ -2,6 +2,7 @@
 // GCC vectorizes (the i-accumulators are `omp simd` reductions, so no -ffast-math is needed
 // and the summation order is fixed by the binary, not by the thread count).
 #include "phynjo/runtime/particles/nbody.hpp"
+#include "phynjo/runtime/particles/detail/pair_block.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -9,33 +10,6 @@
 namespace phynjo::runtime {
 
 namespace {
-
-/// Adds to (ax, ay, az) the accelerations (without the factor G) of every pair (i, j) with
-/// i in [begin, end) and j > i.
-void pair_block(const double* __restrict x, const double* __restrict y, const double* __restrict z,
-                const double* __restrict m, double* __restrict ax, double* __restrict ay, double* __restrict az,
-                std::size_t begin, std::size_t end, std::size_t n, double eps2) {
-    for (std::size_t i = begin; i < end; ++i) {
-        const double xi = x[i], yi = y[i], zi = z[i], mi = m[i];
-        double axi = 0, ayi = 0, azi = 0;
-#pragma omp simd reduction(+ : axi, ayi, azi)
-        for (std::size_t j = i + 1; j < n; ++j) {
-            const double dx = x[j] - xi, dy = y[j] - yi, dz = z[j] - zi;
-            const double r2 = dx * dx + dy * dy + dz * dz + eps2;
-            const double inv = 1.0 / (r2 * std::sqrt(r2));
-            const double sj = m[j] * inv, si = mi * inv;
-            axi += sj * dx;
-            ayi += sj * dy;
-            azi += sj * dz;
-            ax[j] -= si * dx;
-            ay[j] -= si * dy;
-            az[j] -= si * dz;
-        }
-        ax[i] += axi;
-        ay[i] += ayi;
-        az[i] += azi;
-    }
-}
 
 /// Row boundaries splitting the pair triangle into `parts` blocks of equal pair counts.
 std::vector<std::size_t> balanced_rows(std::size_t n, int parts) {
@@ -67,7 +41,7 @@ NumericWorkflow nbody_accelerations(const NBodyGravity& g, const std::shared_ptr
             std::fill_n(ax, n, 0.0);
             std::fill_n(ay, n, 0.0);
             std::fill_n(az, n, 0.0);
-            pair_block(w.field(kX).data(), w.field(kY).data(), w.field(kZ).data(), w.field(kMass).data(), ax, ay, az,
+            detail::pair_block(w.field(kX).data(), w.field(kY).data(), w.field(kZ).data(), w.field(kMass).data(), ax, ay, az,
                        0, n, n, eps2);
             for (std::size_t i = 0; i < n; ++i) {
                 ax[i] *= G;
@@ -92,7 +66,7 @@ NumericWorkflow nbody_accelerations(const NBodyGravity& g, const std::shared_ptr
             std::fill_n(ax, n, 0.0);
             std::fill_n(ay, n, 0.0);
             std::fill_n(az, n, 0.0);
-            pair_block(w.field(kX).data(), w.field(kY).data(), w.field(kZ).data(), w.field(kMass).data(), ax, ay, az,
+            detail::pair_block(w.field(kX).data(), w.field(kY).data(), w.field(kZ).data(), w.field(kMass).data(), ax, ay, az,
                        begin, end, n, eps2);
         };
         partial.push_back(NumericWorkflow::run(r));

@@ -48,12 +48,20 @@ std::uint64_t splitmix64(std::uint64_t x) {
 
 } // namespace
 
-SweepAxis parse_grid_axis(std::string_view text) {
+namespace {
+
+/// "NAME=LO:HI:N" (grid) or "NAME=LO:HI" (uniform): the one reader of both axis forms.
+SweepAxis parse_axis(std::string_view text, bool grid) {
     SweepAxis a;
-    const auto p = fields_of(text, a.name, 3, "NAME=LO:HI:N");
+    const auto p = fields_of(text, a.name, grid ? 3 : 2, grid ? "NAME=LO:HI:N" : "NAME=LO:HI");
     const std::string t(text);
     a.lo = bound(p[0], t);
     a.hi = bound(p[1], t);
+    a.n = 0;
+    if (!grid) {
+        if (!(a.lo <= a.hi)) throw std::invalid_argument("LO must not exceed HI (in '" + t + "')");
+        return a;
+    }
     const auto whole = detail::whole_number(p[2]);
     const long n = whole ? *whole : 0;
     if (n < 1)
@@ -63,16 +71,11 @@ SweepAxis parse_grid_axis(std::string_view text) {
     return a;
 }
 
-SweepAxis parse_uniform_axis(std::string_view text) {
-    SweepAxis a;
-    const auto p = fields_of(text, a.name, 2, "NAME=LO:HI");
-    const std::string t(text);
-    a.lo = bound(p[0], t);
-    a.hi = bound(p[1], t);
-    if (!(a.lo <= a.hi)) throw std::invalid_argument("LO must not exceed HI (in '" + t + "')");
-    a.n = 0;
-    return a;
-}
+} // namespace
+
+SweepAxis parse_grid_axis(std::string_view text) { return parse_axis(text, true); }
+
+SweepAxis parse_uniform_axis(std::string_view text) { return parse_axis(text, false); }
 
 std::size_t SweepPlan::size() const {
     std::size_t n = samples;
