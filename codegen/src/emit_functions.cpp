@@ -4,6 +4,7 @@
 // initial_state, each one straight-line body from one CSE pass; and the fused kernels over
 // them (rk4_step, accelerations_energy_guards).
 #include "emit_detail.hpp"
+#include "signatures.hpp"
 
 #include <sstream>
 
@@ -67,15 +68,19 @@ struct FunctionPrinter {
         return c;
     }
     /// A function with nothing to compute (no constraints, no events, no shapes): its sizes
-    /// checked, its output empty. `with_qdot`: it takes q' too.
-    void empty(const char* fn, bool with_qdot, const char* out) {
-        s << "void " << fn << "(const Parameters& P, double t, std::span<const double> q, "
-          << (with_qdot ? "std::span<const double> qdot,\n    " : "") << "std::span<double> " << out << ") {\n"
-          << (with_qdot ? sizes(fn, {{"q", n}, {"qdot", n}, {out, 0}}) : sizes(fn, {{"q", n}, {out, 0}}))
+    /// checked, its output empty.
+    void empty(const char* fn) {
+        const Signature sig = signature(eom.mass_depends_on_velocities, fn);
+        const bool with_qdot = sig.parameters.size() == 5; // P, t, q, q', out
+        const std::string out = sig.output();
+        s << definition(sig)
+          << (with_qdot ? sizes(fn, {{"q", n}, {"qdot", n}, {out.c_str(), 0}}) : sizes(fn, {{"q", n}, {out.c_str(), 0}}))
           << "    (void)P;\n    (void)t;\n";
         s.close();
         s << "\n";
     }
+    /// The head of generated function `fn`'s definition (signatures.hpp).
+    std::string head(const char* fn) const { return definition(signature(eom.mass_depends_on_velocities, fn)); }
     /// M_ij (either triangle) among the results of a body whose first outputs are `upper`.
     const std::string& Mij(std::size_t i, std::size_t j) const { return res[upper_index(i, j, n)]; }
 
@@ -93,13 +98,10 @@ struct FunctionPrinter {
 /// mass_matrix: the upper triangle from one CSE pass, mirrored.
 void FunctionPrinter::mass_matrix() {
     const std::string b = body(names, upper, res, uses_t, uses_p);
-    if (eom.mass_depends_on_velocities)
-        s << "void mass_matrix(const Parameters& P, double t, std::span<const double> q, std::span<const double> qdot,\n"
-          << "                 std::span<double> M) {\n"
-          << sizes("mass_matrix", {{"q", n}, {"qdot", n}, {"M", n * n}}) << unused(uses_t, uses_p) << b;
-    else
-        s << "void mass_matrix(const Parameters& P, double t, std::span<const double> q, std::span<double> M) {\n"
-          << sizes("mass_matrix", {{"q", n}, {"M", n * n}}) << unused(uses_t, uses_p) << b;
+    s << head("mass_matrix")
+      << (eom.mass_depends_on_velocities ? sizes("mass_matrix", {{"q", n}, {"qdot", n}, {"M", n * n}})
+                                         : sizes("mass_matrix", {{"q", n}, {"M", n * n}}))
+      << unused(uses_t, uses_p) << b;
     for (std::size_t k = 0; k < upper.size(); ++k) {
         const auto [i, j] = upper_ij[k];
         s << "    M[" << i * n + j << "] = " << res[k] << ";\n";
@@ -113,9 +115,7 @@ void FunctionPrinter::mass_matrix() {
 void FunctionPrinter::vector_functions() {
     auto vector_function = [&](const char* fn, const char* out_name, const std::vector<Expr>& exprs) {
         const std::string b = body(names, exprs, res, uses_t, uses_p);
-        s << "void " << fn << "(const Parameters& P, double t, std::span<const double> q, std::span<const double> qdot,\n"
-          << "    std::span<double> " << out_name << ") {\n"
-          << sizes(fn, {{"q", n}, {"qdot", n}, {out_name, n}}) << unused(uses_t, uses_p) << b;
+        s << head(fn) << sizes(fn, {{"q", n}, {"qdot", n}, {out_name, n}}) << unused(uses_t, uses_p) << b;
         for (std::size_t i = 0; i < n; ++i) s << "    " << out_name << "[" << i << "] = " << res[i] << ";\n";
         s.close();
         s << "\n";
@@ -135,9 +135,7 @@ void FunctionPrinter::constrained() {
     all.insert(all.end(), eom.gamma.begin(), eom.gamma.end());
     const std::string b = body(names, all, res, uses_t, uses_p);
     const std::size_t off_f = upper.size(), off_g = off_f + n, off_gamma = off_g + mc * n;
-    s << "void accelerations_and_multipliers(const Parameters& P, double t, std::span<const double> q,\n"
-      << "                                   std::span<const double> qdot, std::span<double> qddot,\n"
-      << "                                   std::span<double> lambda) {\n"
+    s << head("accelerations_and_multipliers")
       << sizes("accelerations_and_multipliers", {{"q", n}, {"qdot", n}, {"qddot", n}, {"lambda", mc}})
       << unused(true, uses_p) << b;
     s << "    const double M[" << n * n << "] = {";
@@ -154,17 +152,14 @@ void FunctionPrinter::constrained() {
       << "::accelerations_and_multipliers\", t);\n";
     s.close();
     s << "\n";
-    s << "void accelerations(const Parameters& P, double t, std::span<const double> q, std::span<const double> qdot,\n"
-      << "                   std::span<double> qddot) {\n"
-      << "    double lambda[" << mc << "];\n"
+    s << head("accelerations") << "    double lambda[" << mc << "];\n"
       << "    accelerations_and_multipliers(P, t, q, qdot, qddot, lambda);\n";
     s.close();
     s << "\n";
     // constraint_residuals, constraint_velocity_residuals, constraint_matrix
     auto rows = [&](const char* fn, const char* out, const std::vector<Expr>& exprs, bool with_qdot) {
         const std::string bb = body(names, exprs, res, uses_t, uses_p);
-        s << "void " << fn << "(const Parameters& P, double t, std::span<const double> q, "
-          << (with_qdot ? "std::span<const double> qdot,\n    " : "") << "std::span<double> " << out << ") {\n"
+        s << head(fn)
           << (with_qdot ? sizes(fn, {{"q", n}, {"qdot", n}, {out, exprs.size()}}) : sizes(fn, {{"q", n}, {out, exprs.size()}}))
           << unused(uses_t, uses_p) << bb;
         for (std::size_t k = 0; k < exprs.size(); ++k) s << "    " << out << "[" << k << "] = " << res[k] << ";\n";
@@ -185,9 +180,7 @@ void FunctionPrinter::constrained() {
                 count.push_back(ts.size());
             }
         const std::string bb = body(names, terms, res, uses_t, uses_p);
-        s << "void constraint_scales(const Parameters& P, double t, std::span<const double> q, std::span<const double> qdot,\n"
-          << "    std::span<double> scale) {\n"
-          << sizes("constraint_scales", {{"q", n}, {"qdot", n}, {"scale", 2 * mc}}) << unused(uses_t, uses_p) << bb;
+        s << head("constraint_scales") << sizes("constraint_scales", {{"q", n}, {"qdot", n}, {"scale", 2 * mc}}) << unused(uses_t, uses_p) << bb;
         std::size_t k = 0;
         for (std::size_t r = 0; r < count.size(); ++r) {
             s << "    scale[" << r << "] = ";
@@ -202,15 +195,12 @@ void FunctionPrinter::constrained() {
 /// Without constraints: accelerations_and_multipliers over accelerations, empty constraint
 /// functions.
 void FunctionPrinter::constraint_stubs() {
-    s << "void accelerations_and_multipliers(const Parameters& P, double t, std::span<const double> q,\n"
-      << "                                   std::span<const double> qdot, std::span<double> qddot,\n"
-      << "                                   std::span<double> lambda) {\n"
-      << sizes("accelerations_and_multipliers", {{"lambda", 0}}) << "    accelerations(P, t, q, qdot, qddot);\n";
+    s << head("accelerations_and_multipliers") << sizes("accelerations_and_multipliers", {{"lambda", 0}}) << "    accelerations(P, t, q, qdot, qddot);\n";
     s.close();
     s << "\n";
     for (const char* fn : {"constraint_residuals", "constraint_velocity_residuals", "constraint_scales", "constraint_gamma"})
-        empty(fn, true, "out");
-    empty("constraint_matrix", false, "G");
+        empty(fn);
+    empty("constraint_matrix");
 }
 /// accelerations, event_guards, energy, rk4_step, accelerations_energy_guards and
 /// rk4_step_values: one unit of Definitions, closed once at its end (the closing lines before
@@ -293,16 +283,11 @@ void FunctionPrinter::cores() {
           << unused(uses_t, uses_p) << unread(b) << b << "    return " << res[0] << ";\n}" << glue << "\n";
     }
     if (mc == 0)
-        s << "void accelerations(const Parameters& P, double t, std::span<const double> q, std::span<const double> qdot,\n"
-          << "                   std::span<double> qddot) {\n"
-          << sizes("accelerations", {{"q", n}, {"qdot", n}, {"qddot", n}})
+        s << head("accelerations") << sizes("accelerations", {{"q", n}, {"qdot", n}, {"qddot", n}})
           << "    accelerations_core(P, t, q.data(), qdot.data(), qddot.data());\n}" << glue << "\n";
-    s << "void event_guards(const Parameters& P, double t, std::span<const double> q, std::span<const double> qdot,\n"
-      << "    std::span<double> g) {\n"
-      << sizes("event_guards", {{"q", n}, {"qdot", n}, {"g", ne}})
+    s << head("event_guards") << sizes("event_guards", {{"q", n}, {"qdot", n}, {"g", ne}})
       << "    guards_core(P, t, q.data(), qdot.data(), g.data());\n}" << glue << "\n";
-    s << "double energy(const Parameters& P, double t, std::span<const double> q, std::span<const double> qdot) {\n"
-      << sizes("energy", {{"q", n}, {"qdot", n}}) << "    return energy_core(P, t, q.data(), qdot.data());\n}" << glue
+    s << head("energy") << sizes("energy", {{"q", n}, {"qdot", n}}) << "    return energy_core(P, t, q.data(), qdot.data());\n}" << glue
       << "\n";
     // rk4_step (phynjo extension): the runtime's lagrangian_rk4 rule, the same operations in
     // the same order (the same bits), its first stage's q'' given; the stages in a core that
@@ -341,21 +326,14 @@ void FunctionPrinter::cores() {
       << (mc == 0 ? "        accelerations_core(P, t, x.data(), v.data(), qddot);\n"
                   : "        accelerations(P, t, x, v, std::span<double>(qddot, " + std::to_string(n) + "));\n")
       << "    } catch (const phynjo::runtime::Error&) {\n        return false;\n    }\n    return true;\n}" << glue << "\n";
-    s << "void rk4_step(const Parameters& P, double t, double h, std::span<double> q, std::span<double> qdot,\n"
-      << "              std::span<const double> qddot) {\n"
-      << sizes("rk4_step", {{"q", n}, {"qdot", n}, {"qddot", n}})
+    s << head("rk4_step") << sizes("rk4_step", {{"q", n}, {"qdot", n}, {"qddot", n}})
       << "    // the parameters in a local, which no store through q or qdot can change: the compiler\n"
       << "    // then computes their products once for all stages\n"
       << "    const Parameters p = P;\n"
       << "    rk4_stages(p, t, h, q.data(), qdot.data(), qddot.data());\n}" << glue << "\n";
-    s << "bool accelerations_energy_guards(const Parameters& P, double t, std::span<const double> q,\n"
-      << "                                 std::span<const double> qdot, std::span<double> qddot, double& E,\n"
-      << "                                 std::span<double> g) {\n"
-      << sizes("accelerations_energy_guards", {{"q", n}, {"qdot", n}, {"qddot", n}, {"g", ne}})
+    s << head("accelerations_energy_guards") << sizes("accelerations_energy_guards", {{"q", n}, {"qdot", n}, {"qddot", n}, {"g", ne}})
       << "    return values_core(P, t, q.data(), qdot.data(), qddot.data(), E, g.data());\n}" << glue << "\n";
-    s << "bool rk4_step_values(const Parameters& P, double t, double h, double t1, std::span<double> q,\n"
-      << "                     std::span<double> qdot, std::span<double> qddot, double& E, std::span<double> g) {\n"
-      << sizes("rk4_step_values", {{"q", n}, {"qdot", n}, {"qddot", n}, {"g", ne}})
+    s << head("rk4_step_values") << sizes("rk4_step_values", {{"q", n}, {"qdot", n}, {"qddot", n}, {"g", ne}})
       << "    const Parameters p = P;\n"
       << "    rk4_stages(p, t, h, q.data(), qdot.data(), qddot.data());\n"
       << "    return values_core(p, t1, q.data(), qdot.data(), qddot.data(), E, g.data());\n";
@@ -370,9 +348,7 @@ void FunctionPrinter::cores() {
 /// rk4_step_values for lanes::kWidth runs at once, each with its own parameters: the same
 /// cores instantiated for Lanes and LaneParameters (the preamble's).
 void FunctionPrinter::lane_kernels() {
-    s << "bool rk4_step_values_lanes_each(const void* const* P, const double* t, const double* h, const double* t1,\n"
-      << "                                double* q, double* qdot, double* qddot, double* E, double* g) {\n"
-      << "    namespace lanes = phynjo::runtime::lanes;\n"
+    s << head("rk4_step_values_lanes_each") << "    namespace lanes = phynjo::runtime::lanes;\n"
       << "    constexpr std::size_t W = lanes::kWidth;\n"
       << "    std::array<lanes::Lanes, " << n << "> x, v, a;\n"
       << "    std::array<lanes::Lanes, " << ne << "> gl;\n"
@@ -390,9 +366,7 @@ void FunctionPrinter::lane_kernels() {
       << (ne > 0 ? "    for (std::size_t k = 0; k < " + std::to_string(ne) + "; ++k) lanes::store(g + k * W, gl[k]);\n"
                  : std::string("    (void)g;\n"))
       << "    return ok;\n}" << glue << "\n";
-    s << "bool rk4_step_values_lanes(const Parameters& P, const double* t, const double* h, const double* t1, double* q,\n"
-      << "                           double* qdot, double* qddot, double* E, double* g) {\n"
-      << "    const void* each[phynjo::runtime::lanes::kWidth];\n"
+    s << head("rk4_step_values_lanes") << "    const void* each[phynjo::runtime::lanes::kWidth];\n"
       << "    for (auto& e : each) e = &P;\n"
       << "    return rk4_step_values_lanes_each(each, t, h, t1, q, qdot, qddot, E, g);\n";
     s.close();
@@ -402,8 +376,7 @@ void FunctionPrinter::lane_kernels() {
 /// apply_event: one case per event, every right side read from the state before any is
 /// stored.
 void FunctionPrinter::apply_event() {
-    s << "void apply_event(const Parameters& P, std::size_t k, double t, std::span<double> q, std::span<double> qdot) {\n"
-      << sizes("apply_event", {{"q", n}, {"qdot", n}}) << "    (void)P;\n    (void)t;\n    switch (k) {\n";
+    s << head("apply_event") << sizes("apply_event", {{"q", n}, {"qdot", n}}) << "    (void)P;\n    (void)t;\n    switch (k) {\n";
     for (std::size_t k = 0; k < ne; ++k) {
         const Event& e = m.events[k];
         s << "    case " << k << ": { // " << e.name << (e.stop ? ": stop" : "") << "\n";
@@ -437,19 +410,16 @@ void FunctionPrinter::shapes() {
     const std::vector<Expr>& radii = opt.sphere_radii;
     // a function of (P, t, q) filling `out` from `exprs` (one CSE pass), or its empty stub
     auto of_q = [&](const char* fn, const char* out, const std::vector<Expr>& exprs) {
-        if (exprs.empty()) return empty(fn, false, out);
+        if (exprs.empty()) return empty(fn);
         const std::string b = body(names, exprs, res, uses_t, uses_p);
-        s << "void " << fn << "(const Parameters& P, double t, std::span<const double> q, std::span<double> " << out
-          << ") {\n"
-          << sizes(fn, {{"q", n}, {out, exprs.size()}}) << unused(uses_t, uses_p) << b;
+        s << head(fn) << sizes(fn, {{"q", n}, {out, exprs.size()}}) << unused(uses_t, uses_p) << b;
         for (std::size_t k = 0; k < exprs.size(); ++k) s << "    " << out << "[" << k << "] = " << res[k] << ";\n";
         s.close();
         s << "\n";
     };
     of_q("shape_positions", "X", opt.shape_points);
     of_q("sphere_jacobians", "J", opt.sphere_jacobians);
-    s << "void sphere_radii(const Parameters& P, std::span<double> r) {\n"
-      << "    check_size(r, " << radii.size() << ", \"sphere_radii\", \"r\");\n";
+    s << head("sphere_radii") << "    check_size(r, " << radii.size() << ", \"sphere_radii\", \"r\");\n";
     if (radii.empty()) s << "    (void)P;\n";
     else {
         const std::string b = body(names, radii, res, uses_t, uses_p);
@@ -463,8 +433,7 @@ void FunctionPrinter::shapes() {
 /// initial_state: the initial values from one CSE pass.
 void FunctionPrinter::initial_state() {
     const std::string b = body(names, opt.initial_values, res, uses_t, uses_p);
-    s << "void initial_state(const Parameters& P, std::span<double> q, std::span<double> qdot) {\n"
-      << sizes("initial_state", {{"q", n}, {"qdot", n}}) << unused(uses_t, uses_p, false) << b;
+    s << head("initial_state") << sizes("initial_state", {{"q", n}, {"qdot", n}}) << unused(uses_t, uses_p, false) << b;
     for (std::size_t i = 0; i < n; ++i) s << "    q[" << i << "] = " << res[i] << ";\n";
     for (std::size_t i = 0; i < n; ++i) s << "    qdot[" << i << "] = " << res[n + i] << ";\n";
     s.close();

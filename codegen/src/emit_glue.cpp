@@ -1,6 +1,7 @@
 // The runtime glue in the generated source: the model as a LagrangianSystem bound to its
 // parameters, a world of its coordinates, and its workflows.
 #include "emit_detail.hpp"
+#include "signatures.hpp"
 
 #include <sstream>
 
@@ -84,19 +85,18 @@ std::string emit_glue(const Model& m, bool mass_depends_on_velocities) {
       << "                                             const phynjo::runtime::World& world, std::string_view integrator) {\n"
       << "    return phynjo::runtime::integrator_workflow(s, world, integrator, \"" << m.name << "::workflow\");\n"
       << "}\n} // namespace\n\n"
-      << "phynjo::runtime::LagrangianSystem system(const Parameters& P) {\n"
+      << definition(signature(mass_depends_on_velocities, "system"))
       << "    auto held = std::make_shared<const Parameters>(P);\n"
       << "    return make_system([held]() -> const Parameters& { return *held; }, held);\n}\n\n"
-      << "phynjo::runtime::LagrangianSystem live_system(const Parameters* P) {\n"
+      << definition(signature(mass_depends_on_velocities, "live_system"))
       << "    if (!P) throw std::invalid_argument(\"" << m.name << "::live_system: null parameters\");\n"
       << "    return make_system([P]() -> const Parameters& { return *P; }, std::shared_ptr<const Parameters>(std::shared_ptr<const Parameters>(), P));\n}\n\n"
-      << "phynjo::runtime::World make_world(const Parameters& P) { return phynjo::runtime::make_lagrangian_world(system(P)); }\n\n"
-      << "phynjo::runtime::NumericWorkflow workflow(const Parameters& P, const phynjo::runtime::World& world,\n"
-      << "                                          std::string_view integrator) {\n"
+      << definition(signature(mass_depends_on_velocities, "make_world"))
+      << "    return phynjo::runtime::make_lagrangian_world(system(P));\n}\n\n"
+      << definition(signature(mass_depends_on_velocities, "workflow"))
       << "    return workflow_of(system(P), world, integrator);\n"
       << "}\n\n"
-      << "phynjo::runtime::NumericWorkflow live_workflow(const Parameters* P, const phynjo::runtime::World& world,\n"
-      << "                                               std::string_view integrator) {\n"
+      << definition(signature(mass_depends_on_velocities, "live_workflow"))
       << "    return workflow_of(live_system(P), world, integrator);\n"
       << "}\n\n} // namespace " << m.name << "\n";
     return s.str();

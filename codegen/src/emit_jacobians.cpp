@@ -3,6 +3,7 @@
 // saddle-point matrix is factored once, solved for q'' and λ, then for every column
 // (equations.hpp: implicit differentiation).
 #include "emit_detail.hpp"
+#include "signatures.hpp"
 
 #include <sstream>
 
@@ -20,9 +21,7 @@ void emit_one(Definitions& s, const Model& m, const EquationsOfMotion& eom, cons
                                     "    check_size(qdot, " + std::to_string(n) + ", \"" + fn + "\", \"qdot\");\n" +
                                     "    check_size(" + out + ", " + std::to_string(2 * n * cols) + ", \"" + fn + "\", \"" +
                                     out + "\");\n";
-    s << "void " << fn << "(const Parameters& P, double t, std::span<const double> q, std::span<const double> qdot,\n"
-      << "    std::span<double> " << out << ") {\n"
-      << size_checks;
+    s << definition(signature(eom.mass_depends_on_velocities, fn)) << size_checks;
     if (cols == 0) {
         s << "    (void)P;\n    (void)t;\n";
         s.close();
@@ -124,8 +123,7 @@ void emit_jacobians(const Model& m, const EquationsOfMotion& eom, Names names, D
         std::vector<std::string> res;
         bool uses_t = false, uses_p = false;
         const std::string b = body(names, all, res, uses_t, uses_p);
-        s << "void canonical_jacobian(const Parameters& P, double t, std::span<const double> q, std::span<const double> qdot,\n"
-          << "    std::span<double> p, std::span<double> F, std::span<double> dp, std::span<double> dF) {\n";
+        s << definition(signature(eom.mass_depends_on_velocities, "canonical_jacobian"));
         for (const auto& [name, len] : std::initializer_list<std::pair<const char*, std::size_t>>{
                  {"q", n}, {"qdot", n}, {"p", n}, {"F", n}, {"dp", 2 * n * n}, {"dF", 2 * n * n}})
             s << "    check_size(" << name << ", " << len << ", \"canonical_jacobian\", \"" << name << "\");\n";
