@@ -43,23 +43,25 @@ Expr rebuild(Expr e, std::span<const Expr> a) {
 
 namespace {
 
+/// x with each child c replaced by child(c): x itself when none changed, else rebuilt.
+template <typename Child>
+Expr with_children(Expr x, Child&& child) {
+    std::vector<Expr> a;
+    a.reserve(x->nargs);
+    bool same = true;
+    for (Expr c : x.args()) {
+        a.push_back(child(c));
+        same = same && a.back() == c;
+    }
+    return same ? x : rebuild(x, a);
+}
+
 /// Bottom-up map with a memo: f(node, rebuilt-children-node).
 template <typename F>
 Expr map_bottom_up(Expr e, NodeMap<Expr>& memo, F&& f) {
     auto rec = [&](auto&& self, Expr x) -> Expr {
         if (const Expr* m = memo.find(x)) return *m;
-        Expr r;
-        if (x->nargs == 0) r = f(x);
-        else {
-            std::vector<Expr> a;
-            a.reserve(x->nargs);
-            bool same = true;
-            for (Expr c : x.args()) {
-                a.push_back(self(self, c));
-                same = same && a.back() == c;
-            }
-            r = f(same ? x : rebuild(x, a));
-        }
+        const Expr r = x->nargs == 0 ? f(x) : f(with_children(x, [&](Expr c) { return self(self, c); }));
         memo.try_emplace(x, r);
         return r;
     };
@@ -370,14 +372,7 @@ Expr subs(Expr e, const std::unordered_map<Expr, Expr>& replacements) {
         if (auto r = replacements.find(x); r != replacements.end()) return r->second;
         if (x->nargs == 0) return x;
         if (const Expr* m = memo.find(x)) return *m;
-        std::vector<Expr> a;
-        a.reserve(x->nargs);
-        bool same = true;
-        for (Expr c : x.args()) {
-            a.push_back(self(self, c));
-            same = same && a.back() == c;
-        }
-        Expr r = same ? x : rebuild(x, a);
+        const Expr r = with_children(x, [&](Expr c) { return self(self, c); });
         memo.try_emplace(x, r);
         return r;
     };

@@ -11,6 +11,7 @@
 #include "phynjo/runtime/core/literal.hpp"
 #include "phynjo/runtime/core/unit_literal.hpp"
 #include "phynjo/runtime/core/process.hpp"
+#include "phynjo/runtime/core/splitting.hpp"
 #include "phynjo/runtime/core/workflow.hpp"
 #include "phynjo/runtime/core/world.hpp"
 
@@ -43,7 +44,6 @@
 #include "phynjo/runtime/integrators/nbody_leapfrog.hpp"
 #include "phynjo/runtime/integrators/rigid_leapfrog.hpp"
 #include "phynjo/runtime/integrators/rk4.hpp"
-#include "phynjo/runtime/integrators/splitting.hpp"
 #include "phynjo/runtime/integrators/symplectic_euler.hpp"
 
 #include "phynjo/runtime/system/constraint_projection.hpp"

@@ -2,7 +2,7 @@
 /// \file
 /// Forest–Ruth, the fourth-order triple-jump composition of leapfrog. Order 4, symplectic.
 /// (source: integrators/forest_ruth.cpp)
-#include "phynjo/runtime/integrators/splitting.hpp"
+#include "phynjo/runtime/core/splitting.hpp"
 
 namespace phynjo::runtime {
 

@@ -2,7 +2,7 @@
 /// \file
 /// Leapfrog (Störmer–Verlet) in its two symmetric forms. Order 2, symplectic,
 /// time-reversible. (source: integrators/leapfrog.cpp)
-#include "phynjo/runtime/integrators/splitting.hpp"
+#include "phynjo/runtime/core/splitting.hpp"
 
 namespace phynjo::runtime {
 

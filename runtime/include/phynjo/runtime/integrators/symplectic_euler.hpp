@@ -1,7 +1,7 @@
 #pragma once
 /// \file
 /// Symplectic Euler. Order 1, symplectic. (source: integrators/symplectic_euler.cpp)
-#include "phynjo/runtime/integrators/splitting.hpp"
+#include "phynjo/runtime/core/splitting.hpp"
 
 namespace phynjo::runtime {
 

@@ -4,7 +4,7 @@
 /// drag, 1-D Newtonian gravity, custom terms) that add and scale, each with its potential.
 /// They lower to rules through the NState kick, and with the NState drift make the
 /// splitting the symplectic integrators compose.
-#include "phynjo/runtime/integrators/splitting.hpp"
+#include "phynjo/runtime/core/splitting.hpp"
 #include "phynjo/runtime/particles/nstate.hpp"
 
 #include <functional>
