@@ -1,4 +1,4 @@
-// The contact solver's detection: the broad phase over the bodies' and model spheres' bounds, the narrow phase, each contact's geometry (solver.hpp).
+// The contact solver's detection: the broad phase over the bodies' and model spheres' bounds, then the narrow phase (solver.hpp).
 #include "solver.hpp"
 
 #include <algorithm>
@@ -69,24 +69,6 @@ void Solver::detect(const World& w, double dt) {
         r.slot = -1;
     }
     rows_.resize(kept);
-}
-
-double Solver::geometry(const Row& c, double* n) const {
-    const Body& A = bodies_[c.a];
-    if (c.plane >= 0) {
-        const Plane& pl = planes_[static_cast<std::size_t>(c.plane)];
-        n[0] = pl.normal.x(), n[1] = pl.normal.y(), n[2] = pl.normal.z();
-        return dot(n, A.p) - pl.offset - A.r;
-    }
-    const Body& B = bodies_[c.b];
-    const double d[3] = {A.p[0] - B.p[0], A.p[1] - B.p[1], A.p[2] - B.p[2]};
-    const double l = std::sqrt(dot(d, d));
-    if (l > 0) {
-        n[0] = d[0] / l, n[1] = d[1] / l, n[2] = d[2] / l;
-    } else {
-        n[0] = 0, n[1] = 1, n[2] = 0;
-    }
-    return l - A.r - B.r;
 }
 
 } // namespace phynjo::runtime::contact_detail
