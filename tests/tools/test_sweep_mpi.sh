@@ -50,7 +50,12 @@ mpi 2 "${grid[@]}" --summary "$work/p.csv" 2> "$work/p.err"; rc=$?
   || bad "resume: rc $rc $(cat "$work/p.err")"
 [ "$(grep -c "resuming .* after its 100 of 391 runs" "$work/p.err")" -eq 1 ] && ok "the resume message, once (rank 0)" \
   || bad "resume message: $(cat "$work/p.err")"
-mpi_bg 2 "${grid[@]}" --summary "$work/k.csv" > /dev/null 2>&1 & pid=$!
+# the killed sweep runs ten times as long (--t-end 40: about 2 s on two ranks), so that the kill
+# lands midway whatever this host's speed (at --t-end 4 the whole sweep takes 0.2 s: it could end
+# between the first row and the kill)
+kgrid=(--grid th1=-3:3:17 --grid th2=-3:3:23 --t-end 40)
+"$sim" "${kgrid[@]}" --summary "$work/ks1.csv"
+mpi_bg 2 "${kgrid[@]}" --summary "$work/k.csv" > /dev/null 2>&1 & pid=$!
 for _ in $(seq 1 1000); do [ -f "$work/k.csv" ] && [ "$(wc -l < "$work/k.csv")" -ge 3 ] && break; sleep 0.01; done
 # the whole job killed at once, as a scheduler ends it (mpiexec takes a second to pass a
 # SIGTERM on: long enough for these ranks to finish); every process's arguments name k.csv
@@ -59,8 +64,8 @@ for _ in $(seq 1 500); do pgrep -f -- "$work/k.csv" > /dev/null || break; sleep 
 rows=$(($(wc -l < "$work/k.csv") - 2))
 [ $rows -lt 391 ] && ! pgrep -f -- "$work/k.csv" > /dev/null && ok "the job killed (kill -9) after $rows of 391 rows" \
   || bad "the kill did not stop the sweep midway (rows $rows)"
-mpi 3 "${grid[@]}" --summary "$work/k.csv" 2> "$work/k.err"
-grep -q "after its $rows of 391 runs" "$work/k.err" && cmp -s "$work/s1.csv" "$work/k.csv" \
+mpi 3 "${kgrid[@]}" --summary "$work/k.csv" 2> "$work/k.err"
+grep -q "after its $rows of 391 runs" "$work/k.err" && cmp -s "$work/ks1.csv" "$work/k.csv" \
   && ok "killed after $rows rows, resumed on 3 ranks: the same bytes" || bad "resume after kill: $(cat "$work/k.err")"
 
 # Trajectories: the same files for any rank count.
