@@ -293,10 +293,10 @@ TEST_CASE("a velocity-quartic Lagrangian: energy conserved, the midpoint rule sy
     }
 }
 
-// Bug caught: a v2 function printed wrongly into C++ (sign as a plain call, abs as integer
+// Bug caught: a function of the language printed wrongly into C++ (sign as a plain call, abs as integer
 // std::abs, asin for acos, atan2's arguments swapped), or derived wrongly inside the
 // equations of motion.
-TEST_CASE("generated code with every v2 function: accelerations against the hand-written equations", "[codegen][generated]") {
+TEST_CASE("generated code with every function of the language: accelerations against the hand-written equations", "[codegen][generated]") {
     const functions::Parameters P;
     std::mt19937_64 rng(5);
     std::uniform_real_distribution<double> u(-1.2, 1.2);

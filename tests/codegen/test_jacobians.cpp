@@ -43,7 +43,7 @@ namespace {
 
 using Fn = std::function<void(double, std::span<const double>, std::span<const double>, std::span<double>)>;
 
-/// A generated model seen through its v2 functions.
+/// A generated model seen through its functions.
 struct Spec {
     std::string name;
     std::size_t n = 0, inputs = 0;
