@@ -13,6 +13,7 @@ files=0
 for root in "$src/runtime/include/phynjo/runtime" "$src/runtime/src"; do
   for dir in "$root"/*/; do
     folder=$(basename "$dir")
+    [ -n "$(find "$dir" -name '*.[ch]pp' -print -quit)" ] || continue # a folder git does not hold (left empty)
     r=$(rank "$folder")
     [ "$r" -lt 0 ] && { bad "$folder: a runtime folder missing from the layer order"; continue; }
     while IFS= read -r f; do
