@@ -195,14 +195,7 @@ CseResult cse(std::span<const Expr> outputs, const CseOptions& options) {
             if (p->constant) ts.push_back(x->number);
             r = add(ts);
         } else if (x->nargs) {
-            std::vector<Expr> a;
-            a.reserve(x->nargs);
-            bool same = true;
-            for (Expr c : x.args()) {
-                a.push_back(ref(c));
-                same = same && a.back() == c;
-            }
-            if (!same) r = rebuild(x, a);
+            r = with_children(x, ref);
         }
         rewritten.try_emplace(x, r);
         if (!trivial(x) && (*uses.find(x) >= 2 || hoist.contains(x))) {

@@ -43,19 +43,6 @@ Expr rebuild(Expr e, std::span<const Expr> a) {
 
 namespace {
 
-/// x with each child c replaced by child(c): x itself when none changed, else rebuilt.
-template <typename Child>
-Expr with_children(Expr x, Child&& child) {
-    std::vector<Expr> a;
-    a.reserve(x->nargs);
-    bool same = true;
-    for (Expr c : x.args()) {
-        a.push_back(child(c));
-        same = same && a.back() == c;
-    }
-    return same ? x : rebuild(x, a);
-}
-
 /// Bottom-up map with a memo: f(node, rebuilt-children-node).
 template <typename F>
 Expr map_bottom_up(Expr e, NodeMap<Expr>& memo, F&& f) {

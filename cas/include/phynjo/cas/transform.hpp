@@ -12,6 +12,19 @@ namespace phynjo::cas {
 
 /// The node `e` with its children replaced by `args` (same count), re-canonicalized.
 Expr rebuild(Expr e, std::span<const Expr> args);
+/// The node `x` with each child c replaced by `child(c)`: `x` itself when no child changed,
+/// else rebuilt (the step of every bottom-up pass).
+template <typename Child>
+Expr with_children(Expr x, Child&& child) {
+    std::vector<Expr> a;
+    a.reserve(x->nargs);
+    bool same = true;
+    for (Expr c : x.args()) {
+        a.push_back(child(c));
+        same = same && a.back() == c;
+    }
+    return same ? x : rebuild(x, a);
+}
 
 /// Distributes products over sums and raises sums to positive integer powers, recursively,
 /// so that the result is a sum of products. Throws LimitError beyond
