@@ -8,13 +8,11 @@
 #include "strict_numbers.hpp"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <exception>
 #include <optional>
 #include <string>
-#include <type_traits>
 
 namespace phynjo::runtime {
 

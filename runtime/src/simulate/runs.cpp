@@ -7,17 +7,12 @@
 
 #include <algorithm>
 #include <memory>
-#include <charconv>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <exception>
-#include <filesystem>
-#include <map>
 #include <limits>
 #include <optional>
 #include <stdexcept>
-#include <unistd.h>
 
 #include "csv_text.hpp"
 #include "strict_numbers.hpp"
