@@ -7,7 +7,7 @@
 set -u
 src=$1
 . "$(dirname "$0")/check.sh"
-order=(core particles rigid system integrators collision contact simulate)
+order=(core particles rigid system integrators collision contact view simulate)
 rank() { local i; for i in "${!order[@]}"; do [ "${order[$i]}" = "$1" ] && { echo "$i"; return; }; done; echo -1; }
 files=0
 for root in "$src/runtime/include/phynjo/runtime" "$src/runtime/src"; do

@@ -4,6 +4,7 @@
 #include "phynjo/runtime/simulate/ensemble.hpp"
 #include "phynjo/runtime/simulate/events.hpp"
 #include "phynjo/runtime/simulate/integrator_registry.hpp"
+#include "phynjo/runtime/view/recorder.hpp"
 
 #include "strict_numbers.hpp"
 
@@ -61,6 +62,7 @@ void help(const char* prog, const ModelCommandLine& model, const LagrangianSyste
                 "          [--energy-tolerance TOL [--fail-on-drift]] [--project-initial]\n"
                 "          [--projection-tolerance TOL] [--rtol R] [--atol A]\n"
                 "          [--events FILE] [--rest-speed V] [--max-events-per-step N] [--shapes FILE]\n"
+                "          [--html FILE [--html-fps F]]\n"
                 "       %s --grid NAME=LO:HI:N... [--uniform NAME=LO:HI... --samples K [--seed S]]\n"
                 "          --summary FILE [--trajectories DIR [--every K]] [--threads N] [--no-lanes] [the options of one run]\n"
                 "Simulates the model %.*s from its initial state and writes CSV: t, q..., q'..., E\n"
@@ -92,6 +94,10 @@ void help(const char* prog, const ModelCommandLine& model, const LagrangianSyste
                 "  --shapes FILE          write the model's shapes at every output row as CSV to FILE:\n"
                 "                         t, then NAME_x, NAME_y, NAME_z of each sphere's centre and\n"
                 "                         NAME_x1 … NAME_z2 of each segment's ends, m\n"
+                "  --html FILE            write the run as a 3-D animation: one HTML page that plays offline\n"
+                "                         (the shapes, or the coordinates as beads; plots of q, q', E - E(0)\n"
+                "                         and the constraint residuals; the events); docs/viewer.md\n"
+                "  --html-fps F           frames per simulated second in the page (default 60)\n"
                 "  --rest-speed V         the Zeno remedy: a velocity an event resets to below V becomes 0\n"
                 "                         and is held (a ball comes to rest) until a free step would\n"
                 "                         leave the event's guard on its armed side (default: off)\n"
@@ -230,7 +236,8 @@ struct Simulator {
     std::optional<double> energy_tolerance;
     bool fail_on_drift = false, project_initial = false;
     ProjectionOptions projection;
-    std::string integrator{integrator_registry().front().name}, output, events_output, shapes_output;
+    std::string integrator{integrator_registry().front().name}, output, events_output, shapes_output, html_output;
+    double html_fps = 60;
     const IntegratorEntry* entry = nullptr;
     EventOptions event_options;
     std::optional<double> rtol, atol;
@@ -323,6 +330,13 @@ bool Simulator::parse() {
         } else if (a == "--fail-on-drift") fail_on_drift = true;
         else if (a == "--events") events_output = value("--events"), single_run_output = true;
         else if (a == "--shapes") shapes_output = value("--shapes"), single_run_output = true;
+        else if (a == "--html") {
+            html_output = value("--html"), single_run_output = true;
+            if (html_output.empty()) throw UsageError{"--html needs a file name"};
+        } else if (a == "--html-fps") {
+            html_fps = num("--html-fps");
+            if (!(html_fps > 0) || html_fps > 1e6) throw UsageError{"--html-fps must be positive (and at most 1e6)"};
+        }
         else if (a == "--rest-speed") {
             event_options.rest_speed = num("--rest-speed");
             if (!(event_options.rest_speed > 0)) throw UsageError{"--rest-speed must be positive"};
@@ -381,11 +395,12 @@ void Simulator::check() {
             throw UsageError{"--summary, --samples and --seed go with --grid or --uniform"};
         if (sweep.plan.uniform.empty() && sweep.plan.samples != 1) throw UsageError{"--samples needs --uniform NAME=LO:HI"};
         if (single_run_output || energy_tolerance || project_initial || rtol || atol)
-            throw UsageError{"--output, --events, --shapes, --energy-tolerance, --project-initial, --rtol and "
+            throw UsageError{"--output, --events, --shapes, --html, --energy-tolerance, --project-initial, --rtol and "
                              "--atol are for one run; a sweep writes --summary (and --trajectories)"};
         if (every > 0 && sweep.trajectories.empty()) throw UsageError{"--every goes with one run's --output or a sweep's --trajectories"};
     } else if (processes && processes->size() > 1)
         throw UsageError{"only a sweep (--grid, --uniform) runs on several MPI ranks; run one simulation without mpirun"};
+    if (!html_output.empty() && !can_write(html_output)) throw UsageError{"--html: cannot write " + html_output};
 }
 
 int Simulator::sweep_runs() {
@@ -496,11 +511,31 @@ int Simulator::run() {
 
     RunOutput csv(sys);
     if (!csv.open(output, shapes_output, argv[0], w)) return 1;
+    // --html: a recorder reading the world after every step (it keeps a frame when one is due)
+    std::optional<Recorder> recorder;
+    if (!html_output.empty()) {
+        try {
+            check_three_js();
+        } catch (const ViewerError& e) {
+            std::fprintf(stderr, "%s: --html: %s\n", argv[0], e.what());
+            return 1;
+        }
+        RecorderOptions options;
+        options.fps = html_fps;
+        char title[160];
+        std::snprintf(title, sizeof title, "%.*s (%s, dt = %g s)", static_cast<int>(model.model_name.size()),
+                      model.model_name.data(), integrator.c_str(), dt);
+        options.title = title;
+        recorder.emplace(options);
+        recorder->add_model(sys);
+    }
+    std::string stop_reason;
     int status = 0;
     const bool with_events = sys.n_events > 0;
     EventMonitor monitor(sys, event_options);
     try {
         csv.row(w);
+        if (recorder) recorder->capture(w);
         // step k is dt long (the last one shortened to end at t_end) and ends at exactly k·dt:
         // the time is set, not accumulated
         const long total = steps + (short_step ? 1 : 0);
@@ -518,6 +553,7 @@ int Simulator::run() {
                 return false;
             }
             if (k % every == 0 || k == total) csv.row(w);
+            if (recorder) recorder->capture(w);
             return true;
         };
         IntegratorSettings settings;
@@ -531,9 +567,24 @@ int Simulator::run() {
         if (const std::string st = run->statistics(); !st.empty()) std::fprintf(stderr, "%s\n", st.c_str());
     } catch (const std::exception& e) {
         std::fprintf(stderr, "%s: simulation stopped at t = %.17g: %s\n", argv[0], w.time, e.what());
+        stop_reason = "the simulation failed at t = " + std::to_string(w.time) + " s: " + e.what();
         status = 1;
     }
     csv.close();
+    if (recorder) { // what it recorded, also when the run failed or an event stopped it
+        recorder->capture_last(w);
+        for (const EventRecord& r : monitor.log()) recorder->mark_event(r.time, sys.event_names[r.event]);
+        if (monitor.stopped() && !monitor.log().empty() && stop_reason.empty())
+            stop_reason = "stopped by the event " + sys.event_names[monitor.log().back().event] + " at t = " +
+                          std::to_string(monitor.log().back().time) + " s";
+        recorder->set_stop_reason(stop_reason);
+        try {
+            recorder->write_html(html_output);
+        } catch (const std::exception& e) {
+            std::fprintf(stderr, "%s: --html: %s\n", argv[0], e.what());
+            status = status ? status : 1;
+        }
+    }
     if (monitor.stopped() && !monitor.log().empty()) {
         const EventRecord& last_event = monitor.log().back();
         std::fprintf(stderr, "%s: the run stopped at t = %.17g: event '%s'\n", argv[0], last_event.time,

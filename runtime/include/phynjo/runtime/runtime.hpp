@@ -48,5 +48,6 @@
 
 #include "phynjo/runtime/system/constraint_projection.hpp"
 #include "phynjo/runtime/simulate/generated.hpp"
+#include "phynjo/runtime/view/recorder.hpp"
 #include "phynjo/runtime/system/detail/kkt_solve.hpp"
 #include "phynjo/runtime/system/detail/symmetric_solve.hpp"
