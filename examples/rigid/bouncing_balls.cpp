@@ -1,6 +1,6 @@
 // Three balls with restitution 0.9, 0.7 and 0.5 dropped from 1 m: each bounce reaches e² of
 // the height before. The three contact rules have disjoint domains and run as one `par`.
-// Writes bouncing_balls.csv (t, height of each ball above the ground).
+// Writes bouncing_balls.csv (t, height of each ball above the ground) and bouncing_balls.html.
 #include "example_io.hpp"
 #include "phynjo/runtime/runtime.hpp"
 
@@ -30,12 +30,17 @@ int main(int argc, char** argv) {
     const ComponentSet all = all_bodies(w);
     Stepper stepper(W::seq(W::run(kick_force3d(Force3D::gravity(9.81), all, 1, layout)), W::par(grounds),
                            W::run(drift_trans(all, 1, layout))));
+    Recorder page({.title = "three balls bouncing: e = 0.9, 0.7, 0.5"});
+    page.add_rigid_bodies(w, all);
+    const Plane ground = Plane::ground();
+    page.add_planes({&ground, 1});
     std::ofstream csv(dir / "bouncing_balls.csv");
     csv << "t,h_e0.9,h_e0.7,h_e0.5\n";
     std::vector<std::vector<double>> apex(3, std::vector<double>{h0});
     double prev[3] = {0, 0, 0};
     const int steps = static_cast<int>(t_end / dt);
     for (int n = 0; n <= steps; ++n) {
+        page.capture(w);
         if (n % 20 == 0) csv << n * dt << ',' << w.at(kY, 0) - r << ',' << w.at(kY, 1) - r << ',' << w.at(kY, 2) - r << '\n';
         for (Index i = 0; i < 3; ++i) {
             const double vy = w.at(kVY, i);
@@ -51,5 +56,6 @@ int main(int argc, char** argv) {
             std::printf(" %.4f", apex[static_cast<std::size_t>(i)][k] / apex[static_cast<std::size_t>(i)][k - 1]);
         std::printf("\n");
     }
-    std::printf("  wrote %s\n", (dir / "bouncing_balls.csv").c_str());
+    page.write_html(dir / "bouncing_balls.html");
+    std::printf("  wrote %s and %s\n", (dir / "bouncing_balls.csv").c_str(), (dir / "bouncing_balls.html").c_str());
 }

@@ -27,6 +27,9 @@ int main(int argc, char** argv) {
     const std::vector<Plane> walls{Plane{{1, 0, 0}, -0.5}, Plane{{-1, 0, 0}, -0.9}}; // x = −0.5 and x = 0.9
     Stepper stepper(rigid_contact_step(Force3D{}, all_bodies(w), walls, ContactMaterial{constant_curve(1), constant_curve(0)},
                                        {}, w.layout_ptr()));
+    Recorder page({.title = "Newton's cradle: five rigid balls, e = 1, between walls"});
+    page.add_rigid_bodies(w, all_bodies(w));
+    page.add_planes(walls);
     std::ofstream csv(dir / "newtons_cradle.csv");
     csv << "t";
     for (int i = 0; i < n; ++i) csv << ",x" << i;
@@ -38,6 +41,7 @@ int main(int argc, char** argv) {
     int moving_prev = 0;
     const int steps = static_cast<int>(t_end / dt);
     for (int k = 0; k <= steps; ++k) {
+        page.capture(w);
         csv << k * dt;
         for (Index i = 0; i < n; ++i) csv << ',' << w.at(kX, i);
         for (Index i = 0; i < n; ++i) csv << ',' << w.at(kVX, i);
@@ -58,5 +62,6 @@ int main(int argc, char** argv) {
     std::printf("Newton's cradle: %d balls, e = 1, between walls, %g s\n", n, t_end);
     std::printf("  %d hand-overs from end to end; initial momentum %.3f kg m/s; largest energy error %.1e\n", handovers, p0,
                 worst_e);
-    std::printf("  wrote %s\n", (dir / "newtons_cradle.csv").c_str());
+    page.write_html(dir / "newtons_cradle.html");
+    std::printf("  wrote %s and %s\n", (dir / "newtons_cradle.csv").c_str(), (dir / "newtons_cradle.html").c_str());
 }

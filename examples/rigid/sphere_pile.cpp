@@ -1,7 +1,7 @@
 // A pile of 1,000 spheres (r = 5 cm, 1 kg) dropped into a box with frictional walls, as in
 // bench/bench_pile.cpp: e = 0.5 above 0.2 m/s, μ = 0.5, dt = 1/240 s, 3 s. Writes
 // sphere_pile_history.csv (t, kinetic energy, largest speed, deepest overlap) and
-// sphere_pile_final.csv (x, y, z, speed of every sphere at the end).
+// sphere_pile_final.csv (x, y, z, speed of every sphere at the end), and sphere_pile.html.
 #include "example_io.hpp"
 #include "phynjo/runtime/runtime.hpp"
 
@@ -35,10 +35,14 @@ int main(int argc, char** argv) {
                                     Plane{{0, 0, -1}, -side}};
     Stepper stepper(rigid_contact_step(Force3D::gravity(9.81), all_bodies(w), planes,
                                        ContactMaterial{restitution_curve(0.5, 0.2), constant_curve(0.5)}, {}, w.layout_ptr()));
+    Recorder page({.title = "1,000 spheres dropped into a box (e = 0.5, mu = 0.5)"});
+    page.add_rigid_bodies(w, all_bodies(w));
+    page.add_planes(planes);
     std::ofstream hist(dir / "sphere_pile_history.csv");
     hist << "t,kinetic_energy,max_speed,max_penetration_mm\n";
     const int steps = static_cast<int>(std::lround(t_end / dt));
     for (int s = 0; s <= steps; ++s) {
+        page.capture(w);
         if (s % 4 == 0) {
             double vmax = 0;
             for (Index i = 0; i < w.size(); ++i) vmax = std::max(vmax, velocity(w, i).norm());
@@ -66,5 +70,7 @@ int main(int argc, char** argv) {
     std::printf("sphere pile: %zu spheres in a %.2f m box, %g s\n", w.size(), side, t_end);
     std::printf("  at the end: %.1f%% slower than 0.05 m/s, deepest overlap %.3f mm, pile height %.2f m\n",
                 100.0 * double(rest) / double(w.size()), 1e3 * max_penetration(w, all_bodies(w), planes), top);
-    std::printf("  wrote %s and %s\n", (dir / "sphere_pile_history.csv").c_str(), (dir / "sphere_pile_final.csv").c_str());
+    page.write_html(dir / "sphere_pile.html");
+    std::printf("  wrote %s, %s and %s\n", (dir / "sphere_pile_history.csv").c_str(), (dir / "sphere_pile_final.csv").c_str(),
+                (dir / "sphere_pile.html").c_str());
 }

@@ -1,7 +1,8 @@
 // The intermediate-axis flip (Dzhanibekov effect): a torque-free asymmetric top spun almost
 // about its intermediate axis turns over again and again. Writes torque_free_top.csv
 // (t, body-frame ω, relative energy and angular-momentum errors) and prints the flip
-// half-period against Landau's elliptic-function value.
+// half-period against Landau's elliptic-function value; torque_free_top.html plays the first
+// 20 s (docs/viewer.md).
 #include "example_io.hpp"
 #include "phynjo/runtime/runtime.hpp"
 
@@ -32,6 +33,10 @@ int main(int argc, char** argv) {
     const Eigen::Vector3d L0 = total_angular_momentum(w);
     std::ofstream csv(dir / "torque_free_top.csv");
     csv << "t,wx_body,wy_body,wz_body,energy_error,momentum_error\n";
+    Recorder page({.fps = 30, .title = "torque-free top: the intermediate-axis flip"});
+    page.add_rigid_bodies(w, all_bodies(w));
+    page.add_series({"omega_y body", "rad/s", "body angular velocity"},
+                    [](const World& now) { return orientation(now, 0).rotate_inverse(angular_velocity(now, 0)).y(); });
     std::vector<double> flips;
     double prev = om0.y(), worst_e = 0, worst_l = 0;
     const int steps = static_cast<int>(t_end / dt);
@@ -42,6 +47,7 @@ int main(int argc, char** argv) {
         worst_l = std::max(worst_l, dl);
         if (n > 0 && (prev > 0) != (ob.y() > 0)) flips.push_back((n - 1 + prev / (prev - ob.y())) * dt);
         prev = ob.y();
+        if (n * dt <= 20) page.capture(w);
         if (n % 20 == 0) csv << n * dt << ',' << ob.x() << ',' << ob.y() << ',' << ob.z() << ',' << de << ',' << dl << '\n';
         if (n < steps) stepper.step(w, dt);
     }
@@ -57,5 +63,6 @@ int main(int argc, char** argv) {
     else
         std::printf("\n");
     std::printf("  largest relative energy error %.2e, angular momentum error %.2e\n", worst_e, worst_l);
-    std::printf("  wrote %s\n", (dir / "torque_free_top.csv").c_str());
+    page.write_html(dir / "torque_free_top.html");
+    std::printf("  wrote %s and %s\n", (dir / "torque_free_top.csv").c_str(), (dir / "torque_free_top.html").c_str());
 }

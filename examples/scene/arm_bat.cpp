@@ -27,6 +27,10 @@ int main(int argc, char** argv) {
                              contact_cache_fields());
     Stepper stepper(scene_step(scene, Force3D::gravity(9.81), {Plane::ground()},
                                {restitution_curve(0.8, 0.1), constant_curve(0.3)}, {}));
+    Recorder page({.title = "a .lag two-link arm bats a falling ball"});
+    page.add_scene(scene);
+    const Plane ground = Plane::ground();
+    page.add_planes({&ground, 1});
     std::ofstream csv(dir / "arm_bat.csv");
     csv << "t,a1,a2,hand_x,hand_y,ball_x,ball_y,ball_speed\n";
     const Index hand = scene.models[0].spheres[0];
@@ -34,6 +38,7 @@ int main(int argc, char** argv) {
     const int steps = static_cast<int>(t_end / dt);
     for (int k = 0; k <= steps; ++k) {
         const World& w = scene.world;
+        page.capture(w);
         const auto q = model_q(scene, 0);
         const double v = velocity(w, 0).norm();
         csv << w.time << ',' << q[0] << ',' << q[1] << ',' << w.at(kX, hand) << ',' << w.at(kY, hand) << ',' << w.at(kX, 0)
@@ -50,5 +55,6 @@ int main(int argc, char** argv) {
         std::printf("  struck at t = %.3f s: the ball leaves at %.2f m/s\n", struck_at, speed_after);
     else
         std::printf("  the arm missed the ball\n");
-    std::printf("  wrote %s\n", (dir / "arm_bat.csv").c_str());
+    page.write_html(dir / "arm_bat.html");
+    std::printf("  wrote %s and %s\n", (dir / "arm_bat.csv").c_str(), (dir / "arm_bat.html").c_str());
 }

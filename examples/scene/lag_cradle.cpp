@@ -41,6 +41,8 @@ int main(int argc, char** argv) {
     }
     const double T = 4 * std::sqrt(l / g) * std::numbers::pi / (2 * a);
 
+    Recorder page({.title = "Newton's cradle of five .lag pendulums"});
+    page.add_scene(scene);
     std::ofstream csv(dir / "lag_cradle.csv");
     csv << "t";
     for (int i = 0; i < n; ++i) csv << ",th" << i;
@@ -52,6 +54,7 @@ int main(int argc, char** argv) {
     const int steps = static_cast<int>(t_end / dt);
     const double w_max = std::sqrt(2 * g / l * (1 - std::cos(th0)));
     for (int s = 0; s <= steps; ++s) {
+        page.capture(scene.world);
         csv << s * dt;
         for (std::size_t i = 0; i < n; ++i) csv << ',' << model_q(scene, i)[0];
         for (std::size_t i = 0; i < n; ++i) csv << ',' << scene.world.at(kX, scene.models[i].spheres[0]);
@@ -75,5 +78,6 @@ int main(int argc, char** argv) {
                 dt, t_end);
     std::printf("  %d hand-overs, at most %.1f ms from T/4 + k T/2 (T = %.4f s exact); energy error %.1e of the swing's\n",
                 handovers, 1e3 * worst_dt, T, worst_e);
-    std::printf("  wrote %s\n", (dir / "lag_cradle.csv").c_str());
+    page.write_html(dir / "lag_cradle.html");
+    std::printf("  wrote %s and %s\n", (dir / "lag_cradle.csv").c_str(), (dir / "lag_cradle.html").c_str());
 }

@@ -3,7 +3,7 @@
 // rule, the pendulum's bobs acting on the spheres (and on the walls) through their Jacobians.
 // Writes pendulum_pile_frames.csv (frame, t, x, y, z, speed of every sphere at four instants),
 // pendulum_pile_striker.csv (frame, t, pivot, bob1, bob2 and their radii) and prints what the
-// pendulum did.
+// pendulum did; pendulum_pile.html plays the whole run.
 #include "example_io.hpp"
 #include "phynjo/runtime/runtime.hpp"
 #include "striker.hpp"
@@ -47,6 +47,9 @@ int main(int argc, char** argv) {
     Executor executor(2);
     Stepper stepper(scene_step(scene, Force3D::gravity(9.81), walls, {restitution_curve(0.5, 0.2), constant_curve(0.5)}, {}),
                     &executor);
+    Recorder page({.title = "a .lag double pendulum swings into a pile of 400 spheres"});
+    page.add_scene(scene);
+    page.add_planes(walls);
     std::ofstream frames(dir / "pendulum_pile_frames.csv"), bobs(dir / "pendulum_pile_striker.csv");
     frames << "frame,t,x,y,z,speed\n";
     bobs << "frame,t,px,py,x1,y1,r1,x2,y2,r2\n";
@@ -55,6 +58,7 @@ int main(int argc, char** argv) {
     double fastest = 0, leftmost = length;
     for (int step = 0, f = 0; step <= at.back(); ++step) {
         const World& w = scene.world;
+        page.capture(w);
         if (step == at[static_cast<std::size_t>(f)]) {
             for (Index i : scene.bodies.indices())
                 frames << f << ',' << w.time << ',' << w.at(kX, i) << ',' << w.at(kY, i) << ',' << w.at(kZ, i) << ','
@@ -76,5 +80,7 @@ int main(int argc, char** argv) {
     std::printf("  the fastest sphere reached %.2f m/s, one was thrown back to x = %.2f m (the pile began at 1.7 m);\n"
                 "  deepest overlap at the end %.2f mm\n",
                 fastest, leftmost, 1e3 * max_penetration(scene.world, scene.bodies | scene.spheres, walls));
-    std::printf("  wrote %s and %s\n", (dir / "pendulum_pile_frames.csv").c_str(), (dir / "pendulum_pile_striker.csv").c_str());
+    page.write_html(dir / "pendulum_pile.html");
+    std::printf("  wrote %s, %s and %s\n", (dir / "pendulum_pile_frames.csv").c_str(), (dir / "pendulum_pile_striker.csv").c_str(),
+                (dir / "pendulum_pile.html").c_str());
 }

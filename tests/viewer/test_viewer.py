@@ -2,8 +2,9 @@
 
 Pages come from the simulators of tests/codegen/models/shapes.lag (a 3-D double pendulum:
 spheres, rods, a fixed post, a sphere driven by t) and examples/models/bouncing_ball.lag
-(events, a run stopped early); the simulators' paths are in PHYNJO_SHAPES_SIM and
-PHYNJO_BALL_SIM (tests/CMakeLists.txt). Each test names the bug it catches."""
+(events, a run stopped early), and the rigid top of examples/rigid/torque_free_top.cpp (an
+oriented body); the programs' paths are in PHYNJO_SHAPES_SIM, PHYNJO_BALL_SIM and PHYNJO_TOP
+(tests/CMakeLists.txt). Each test names the bug it catches."""
 import colorsys
 import csv
 import math
@@ -14,7 +15,7 @@ import pytest
 
 import browser
 
-T_END, DT, FPS = 2.0, 1e-3, 60
+T_END, DT, FPS = 2.005, 1e-3, 60  # the end between two frames: the last state is kept apart
 
 
 @pytest.fixture(scope="module")
@@ -28,6 +29,7 @@ def pages(tmp_path_factory):
     ball = os.environ["PHYNJO_BALL_SIM"]
     subprocess.run([ball, "--t-end", "3", "--events", d / "bounces.csv", "-o", d / "ball.csv",
                     "--html", d / "ball.html"], check=True)
+    subprocess.run([os.environ["PHYNJO_TOP"], "--output", d], check=True, stdout=subprocess.DEVNULL)
     return d
 
 
@@ -167,3 +169,25 @@ def test_a_screenshot_shows_the_spheres_where_the_camera_puts_them(pages, driver
         hs, hc = hue(seen), hue(colour)
         assert seen != background, (body, seen)
         assert min(abs(hs[0] - hc[0]), 1 - abs(hs[0] - hc[0])) < 0.04 and hs[1] > 0.3, (body, seen, colour)
+
+
+def test_rigid_bodies_are_drawn_at_their_recorded_pose(pages, driver):
+    """Catches: orientations recorded but not drawn (no spin visible), quaternion components
+    out of order between the file and three.js, a body drawn at the wrong place or size."""
+    browser.load(driver, pages / "torque_free_top.html")
+    n = driver.execute_script("return phynjo.frameCount")
+    radius = driver.execute_script("return phynjo.meta.bodies[0].radius")
+    assert radius == pytest.approx(math.sqrt(2.5 * 2), rel=1e-12)  # I = diag(1, 2, 3) kg m^2, 1 kg: mean 2
+    turned = 0
+    for f in (0, n // 3, n // 2, n - 1):
+        driver.execute_script("phynjo.seekFrame(arguments[0])", f)
+        drawn = driver.execute_script("return phynjo.drawn(0)")
+        q = driver.execute_script("return phynjo.orientation(0, arguments[0])", f)
+        p = driver.execute_script("return phynjo.position(0, arguments[0])", f)
+        norm = math.sqrt(sum(c * c for c in q))
+        same = abs(sum(a * b / norm for a, b in zip(drawn["quaternion"], q)))  # q and -q: one rotation
+        assert same > 1 - 1e-6, (f, drawn, q)
+        assert drawn["position"] == pytest.approx(p, abs=1e-6)
+        assert drawn["scale"] == pytest.approx([radius] * 3, rel=1e-5)
+        turned += abs(q[0]) < 0.99
+    assert turned >= 2  # the top turns: most of these frames are not the identity

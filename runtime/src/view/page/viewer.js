@@ -421,6 +421,19 @@
       for (let k = 0; k < n; ++k) { show(current); render(); gl.finish(); }
       return (performance.now() - a) / n;
     },
-    drawCalls: function () { return renderer.info.render.calls; }
+    drawCalls: function () { return renderer.info.render.calls; },
+    camera: function () { return { position: camera.position.clone(), target: controls.target.clone() }; },
+    /// what is drawn for body i: its instance's position, quaternion (w, x, y, z) and scale
+    drawn: function (i) {
+      for (const g of groups) {
+        const k = g.list.indexOf(i);
+        if (k < 0) continue;
+        const m = new THREE.Matrix4().fromArray(g.mesh.instanceMatrix.array, 16 * k);
+        const p = new THREE.Vector3(), q = new THREE.Quaternion(), s = new THREE.Vector3();
+        m.decompose(p, q, s);
+        return { position: [p.x, p.y, p.z], quaternion: [q.w, q.x, q.y, q.z], scale: [s.x, s.y, s.z] };
+      }
+      return null;
+    }
   };
 })();
