@@ -319,14 +319,14 @@ TEST_CASE("generated code with every function of the language: accelerations aga
 // checks missing (a caller's wrong span accepted silently).
 TEST_CASE("every model declares events and shapes (none yet), sizes checked", "[codegen][generated]") {
     static_assert(pendulum::n_events == 0 && pendulum::event_names.empty());
-    static_assert(double_pendulum::n_shapes == 0 && double_pendulum::shape_names.empty());
-    const double_pendulum::Parameters P;
-    std::vector<double> q(double_pendulum::dof, 0.1), v(double_pendulum::dof, 0.2), none, one(1);
-    CHECK_NOTHROW(double_pendulum::event_guards(P, 0, q, v, none));
-    CHECK_NOTHROW(double_pendulum::shape_positions(P, 0, q, none));
-    CHECK_NOTHROW(double_pendulum::sphere_jacobians(P, 0, q, none));
-    CHECK_THROWS_AS(double_pendulum::event_guards(P, 0, q, v, one), std::invalid_argument);
-    CHECK_THROWS_AS(double_pendulum::event_guards(P, 0, one, v, none), std::invalid_argument);
-    CHECK_THROWS_AS(double_pendulum::shape_positions(P, 0, q, one), std::invalid_argument);
-    CHECK_THROWS_AS(double_pendulum::sphere_jacobians(P, 0, one, none), std::invalid_argument);
+    static_assert(spring_pendulum::n_shapes == 0 && spring_pendulum::shape_names.empty());
+    const spring_pendulum::Parameters P;
+    std::vector<double> q(spring_pendulum::dof, 0.1), v(spring_pendulum::dof, 0.2), none, one(1);
+    CHECK_NOTHROW(spring_pendulum::event_guards(P, 0, q, v, none));
+    CHECK_NOTHROW(spring_pendulum::shape_positions(P, 0, q, none));
+    CHECK_NOTHROW(spring_pendulum::sphere_jacobians(P, 0, q, none));
+    CHECK_THROWS_AS(spring_pendulum::event_guards(P, 0, q, v, one), std::invalid_argument);
+    CHECK_THROWS_AS(spring_pendulum::event_guards(P, 0, one, v, none), std::invalid_argument);
+    CHECK_THROWS_AS(spring_pendulum::shape_positions(P, 0, q, one), std::invalid_argument);
+    CHECK_THROWS_AS(spring_pendulum::sphere_jacobians(P, 0, one, none), std::invalid_argument);
 }

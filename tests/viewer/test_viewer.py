@@ -129,12 +129,17 @@ def test_the_slider_seeks_and_play_advances_in_real_time(pages, driver):
     f = driver.execute_script("return phynjo.frame()")
     assert driver.execute_script("return phynjo.frameTime(arguments[0])", f) <= 1.0 < \
         driver.execute_script("return phynjo.frameTime(arguments[0])", f + 1)
-    driver.execute_script("phynjo.seek(0); phynjo.play()")
-    elapsed = driver.execute_async_script(
-        "const done = arguments[0], a = performance.now();"
-        "setTimeout(() => { phynjo.pause(); done([performance.now() - a, phynjo.time()]); }, 700);")
-    wall, simulated = elapsed[0] / 1000, elapsed[1]
-    assert 0.5 * wall < simulated < 1.3 * wall, elapsed  # 1x: simulated time follows the wall clock
+    # 1x by default: the simulated time follows the wall clock; at 0.25x a quarter of it (a
+    # frame per animation tick would also look like 1x at 60 frames per second, not like 0.25x)
+    for speed in (None, 0.25):
+        driver.execute_script("phynjo.seek(0); if (arguments[0]) phynjo.setSpeed(arguments[0]); phynjo.play()", speed)
+        elapsed = driver.execute_async_script(
+            "const done = arguments[0], a = performance.now();"
+            "setTimeout(() => { phynjo.pause(); done([performance.now() - a, phynjo.time()]); }, 800);")
+        wall, simulated = elapsed[0] / 1000, elapsed[1]
+        rate = speed or 1
+        assert 0.5 * rate * wall < simulated < 1.3 * rate * wall, (speed, elapsed)
+    driver.execute_script("phynjo.setSpeed(1)")
     # keyboard: space plays, the right arrow steps one frame
     driver.execute_script("phynjo.seekFrame(10)")
     driver.execute_script("window.dispatchEvent(new KeyboardEvent('keydown', {key: 'ArrowRight'}))")
