@@ -404,6 +404,8 @@
     play: play, pause: pause, isPlaying: function () { return playing; }, seek: seek,
     seekFrame: function (f) { pause(); f = Math.min(Math.max(f, 0), F - 1); simTime = times[f]; show(f); render(); },
     setSpeed: setSpeed, speed: function () { return speed; },
+    /// [the animation tick's time stamp, ms, and the simulated time it showed, s]: playback's rate
+    playClock: function () { return [lastTick, simTime]; },
     /// body i's centre (a rod: its first end) at the shown frame, in CSS pixels of the page
     project: function (i) {
       const p = position(i, current);
