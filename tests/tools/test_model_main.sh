@@ -79,4 +79,21 @@ cmp -s "$work/follow.csv" "$work/set_same.csv" && ! cmp -s "$work/follow.csv" "$
 "$dp" --param m1=0 --param m2=0 --t-end 1 >/dev/null 2>"$work/err"; rc=$?
 [ $rc -eq 1 ] && grep -q "simulation stopped at t = 0: .*singular" "$work/err" && ok "singular mass matrix: exit 1, message with the time" \
   || bad "singular run rc=$rc [$(cat "$work/err")]"
+# --html (docs/viewer.md): an unwritable path is refused before the run (exit 2, the path
+# named, nothing written); --html with a sweep or a rate that is not positive is a usage error;
+# three.js missing is a failure saying what to install; a failed run still writes its page,
+# the reason on it. Catches: a page checked only at the end (an hour's run lost), a sweep
+# silently ignoring --html, a page missing after a failure.
+"$pend" --t-end 1 --html /nonexistent-dir/run.html -o "$work/never.csv" 2>"$work/err"; rc=$?
+[ $rc -eq 2 ] && grep -q "cannot write /nonexistent-dir/run.html" "$work/err" && [ ! -e "$work/never.csv" ] \
+  && ok "--html unwritable: exit 2 before the run, the path named" || bad "--html unwritable rc=$rc [$(cat "$work/err")]"
+"$pend" --grid l=1:2:2 --summary "$work/s.csv" --html "$work/s.html" 2>"$work/err"; rc=$?
+[ $rc -eq 2 ] && grep -q -- "--html" "$work/err" && ok "--html with a sweep: exit 2" || bad "--html with a sweep rc=$rc"
+"$pend" --html "$work/p.html" --html-fps 0 2>/dev/null; [ $? -eq 2 ] && ok "--html-fps 0: exit 2" || bad "--html-fps 0"
+PHYNJO_THREE_DIR="$work/none" "$pend" --t-end 0.1 --html "$work/p.html" -o /dev/null 2>"$work/err"; rc=$?
+[ $rc -eq 1 ] && grep -q "libjs-three" "$work/err" && ok "three.js missing: exit 1, says to install libjs-three" \
+  || bad "three.js missing rc=$rc [$(cat "$work/err")]"
+"$dp" --param m1=0 --param m2=0 --t-end 1 --html "$work/failed.html" >/dev/null 2>&1; rc=$?
+[ $rc -eq 1 ] && grep -q '"stop":"the simulation failed at t = 0' "$work/failed.html" \
+  && ok "a failed run still writes its page, the reason on it" || bad "failed run's page rc=$rc"
 finish
