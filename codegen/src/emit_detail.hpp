@@ -173,5 +173,12 @@ std::string emit_lane_parameters(const Model& m);
 std::string emit_glue(const Model& m, bool mass_depends_on_velocities);
 /// main(): the runtime's command-line driver with the model's parameters.
 std::string emit_main(const Model& m);
+/// What every source file starts with: the comment, the header's include (none when
+/// `header_name` is empty; functions only unless `with_glue`), the standard includes (and
+/// model_main's with `with_main`), and the helpers every function may use (size checks,
+/// derived parameters, lane parameters), in the model's namespace left open.
+std::string source_preamble(const Model& m, const std::string& header_name, bool with_glue, bool with_main);
+/// The kernel's C table (kernel_abi.h) over the functions above it: emit_kernel's tail.
+std::string emit_kernel_table(const Model& m, bool mass_depends_on_velocities, const std::string& version);
 
 } // namespace phynjo::codegen::detail

@@ -33,6 +33,7 @@ namespace {
 constexpr const char* usage_text = R"(usage: phynjo-lagc MODEL.lag -o OUT.cpp [--main] [--parts K]
        phynjo-lagc MODEL.lag --emit=eom|latex|cpp [-o FILE]
        phynjo-lagc MODEL.lag --emit=linear --at x=EXPR,...,x'=EXPR [--format=latex] [-o FILE]
+       phynjo-lagc MODEL.lag --emit=kernel -o OUT.cpp
 
 Compiles a Lagrangian model (.lag, see docs/language.md) to C++: OUT.cpp and, beside it, OUT.hpp
 declaring the model's namespace (dof, Parameters, mass_matrix, forcing, accelerations,
@@ -41,7 +42,9 @@ momenta, energy, initial_state, and the runtime integration: system, make_world,
 options:
   -o FILE        output file (for cpp: the .cpp; the .hpp is written beside it)
   --emit=KIND    cpp (default), eom (M and f in the input syntax), latex (a LaTeX document),
-                 linear (A = dy'/dy and B = dy'/du about --at, exact, with the eigenvalues of A)
+                 linear (A = dy'/dy and B = dy'/du about --at, exact, with the eigenvalues of A),
+                 kernel (one .cpp with the model's functions and a C table, to build as a
+                 shared object the runtime loads: what phynjo-run does; docs/command-line.md)
   --at STATE     with --emit=linear: the state, NAME=EXPR separated by commas; NAME a
                  coordinate x, a velocity x', t, or an input u; EXPR numbers, pi, functions
                  and parameters (exact: th=pi gives A and B in closed form); a coordinate,
@@ -169,7 +172,7 @@ int main(int argc, char** argv) {
             output = argv[i];
         } else if (a.rfind("--emit=", 0) == 0) {
             emit = a.substr(7);
-            if (emit != "cpp" && emit != "eom" && emit != "latex" && emit != "linear")
+            if (emit != "cpp" && emit != "eom" && emit != "latex" && emit != "linear" && emit != "kernel")
                 return usage_error("unknown --emit kind '" + emit + "'");
         } else if (a == "--at" || a.rfind("--at=", 0) == 0) {
             if (a == "--at" && ++i >= argc) return usage_error("--at needs a state, e.g. --at th=pi");
@@ -202,9 +205,9 @@ int main(int argc, char** argv) {
         else return usage_error("more than one model file");
     }
     if (input.empty()) return usage_error("missing model file");
-    if (emit == "cpp" && output.empty()) return usage_error("-o OUT.cpp is needed to write C++");
+    if ((emit == "cpp" || emit == "kernel") && output.empty()) return usage_error("-o OUT.cpp is needed to write C++");
     if ((parts != 1 || piece_threshold != codegen::kPieceThreshold || split_threshold != codegen::kSplitThreshold) &&
-        emit != "cpp")
+        emit != "cpp" && !(emit == "kernel" && parts == 1 && split_threshold == codegen::kSplitThreshold))
         return usage_error("--parts, --split-above and --pieces-above shape generated C++: they do not go with --emit=" + emit);
     if (with_main && emit != "cpp") return usage_error("--main adds a main() to generated C++: it does not go with --emit=" + emit);
     if (have_at && emit != "linear") return usage_error("--at gives the state of --emit=linear");
@@ -273,6 +276,18 @@ int main(int argc, char** argv) {
             if (output.empty()) std::cout << doc;
             else if (!write_file(output, doc)) return 1;
             return 0;
+        }
+        if (emit == "kernel") { // one translation unit, no header beside it
+            const std::string kernel =
+                codegen::emit_kernel(*model, codegen::optimize(*model, *eom), {.header_name = {}, .piece_threshold = piece_threshold}, PHYNJO_VERSION);
+            if (kernel.size() > max_output) {
+                sink.error(model->lagrangian_where.offset, model->lagrangian_where.length,
+                           "the generated code would be " + std::to_string(kernel.size()) + " bytes (the limit is " +
+                               std::to_string(max_output) + ")");
+                std::cerr << sink.format_all();
+                return 1;
+            }
+            return write_file(output, kernel) ? 0 : 1;
         }
         std::string header_path = output;
         if (const auto dot = header_path.rfind('.'); dot != std::string::npos && header_path.find('/', dot) == std::string::npos)

@@ -47,6 +47,12 @@ struct EmittedCpp {
 /// The generated pair, printed from the optimize step's forms (optimize.hpp). Deterministic:
 /// the same model gives byte-identical text.
 EmittedCpp emit_cpp(const Model& model, const OptimizedEquations& equations, const EmitOptions& options);
+/// A model kernel (docs/command-line.md, *Kernels*): one translation unit with the header's
+/// declarations, the model's functions and the C table of phynjo/runtime/system/kernel_abi.h
+/// (entry point `phynjo_kernel_v1`), built as a shared object the runtime loads. `version`
+/// is phynjo's, recorded in the table.
+std::string emit_kernel(const Model& model, const OptimizedEquations& equations, const EmitOptions& options,
+                        const std::string& version);
 /// A LaTeX document of L and the equations of motion M q'' = f.
 std::string emit_latex(const Model& model, const EquationsOfMotion& eom);
 /// `M(i,j) = …` and `f(i) = …` lines in the input syntax (1-based, coordinate order).

@@ -335,6 +335,8 @@
   document.getElementById('fwd').addEventListener('click', function () { step(1); });
   window.addEventListener('keydown', function (e) {
     if (e.target && e.target.tagName === 'SELECT') return;
+    // a focused button or slider would act on the key too (space clicks a button on keyup)
+    if (e.target && (e.target.tagName === 'BUTTON' || e.target.tagName === 'INPUT')) e.target.blur();
     const k = e.key;
     if (k === ' ') { if (playing) pause(); else play(); }
     else if (k === 'ArrowRight') step(1);

@@ -1,0 +1,298 @@
+// Models compiled at run time (jit/compile.hpp): the key, the cache, the compiler.
+#include "phynjo/jit/compile.hpp"
+
+#include "phynjo/cas/pool.hpp"
+#include "phynjo/codegen/emit.hpp"
+#include "phynjo/codegen/equations.hpp"
+#include "phynjo/codegen/frontend.hpp"
+#include "phynjo/codegen/optimize.hpp"
+#include "phynjo/grammar/diagnostics.hpp"
+#include "phynjo/runtime/system/kernel.hpp"
+
+#include <unistd.h>
+
+#include <array>
+#include <chrono>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+#include <random>
+#include <sstream>
+
+#ifndef PHYNJO_VERSION
+#define PHYNJO_VERSION "unknown"
+#endif
+#ifndef PHYNJO_JIT_CXX
+#define PHYNJO_JIT_CXX "c++"
+#endif
+#ifndef PHYNJO_JIT_SOURCE_INCLUDE
+#define PHYNJO_JIT_SOURCE_INCLUDE ""
+#endif
+#ifndef PHYNJO_JIT_INSTALLED_INCLUDE
+#define PHYNJO_JIT_INSTALLED_INCLUDE ""
+#endif
+#ifndef PHYNJO_JIT_BINARY_DIR
+#define PHYNJO_JIT_BINARY_DIR ""
+#endif
+#ifndef PHYNJO_JIT_LIBMVEC
+#define PHYNJO_JIT_LIBMVEC 0
+#endif
+
+namespace fs = std::filesystem;
+
+namespace phynjo::jit {
+
+namespace {
+
+/// Two FNV-1a hashes of 64 bits from different bases: a 128-bit key. Not a defence against
+/// an attacker who writes the cache, only against collisions of honest inputs.
+struct Hash {
+    std::uint64_t a = 0xcbf29ce484222325ull, b = 0x84222325cbf29ce4ull;
+    Hash& add(std::string_view s) {
+        for (const unsigned char c : s) {
+            a = (a ^ c) * 0x100000001b3ull;
+            b = (b ^ c) * 0x100000001b3ull + 0x9e3779b97f4a7c15ull;
+        }
+        a = (a ^ 0xff) * 0x100000001b3ull; // a separator: ("ab", "c") and ("a", "bc") differ
+        return *this;
+    }
+    [[nodiscard]] std::string hex() const {
+        char buf[40];
+        std::snprintf(buf, sizeof buf, "%016llx%016llx", static_cast<unsigned long long>(a), static_cast<unsigned long long>(b));
+        return buf;
+    }
+};
+
+std::string read_text(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    if (!in) return {};
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+bool write_text(const fs::path& p, std::string_view text) {
+    std::ofstream out(p, std::ios::binary);
+    out.write(text.data(), static_cast<std::streamsize>(text.size()));
+    return static_cast<bool>(out.flush());
+}
+
+/// A unique name beside `p` for a file to be renamed over it.
+fs::path temporary_beside(const fs::path& p) {
+    static std::mt19937_64 rng(std::random_device{}() ^ static_cast<std::uint64_t>(::getpid()));
+    static std::mutex m;
+    std::lock_guard lock(m);
+    return p.string() + "." + std::to_string(::getpid()) + "." + std::to_string(rng() % 1000000000) + ".tmp";
+}
+
+/// The runtime headers a kernel includes: $PHYNJO_INCLUDE_DIR, else the source tree's when
+/// this program runs from phynjo's build tree, else the installed ones (then the source
+/// tree's, for a program outside both).
+fs::path include_dir() {
+    const auto has_abi = [](const fs::path& d) { return !d.empty() && fs::exists(d / "phynjo/runtime/system/kernel_abi.h"); };
+    if (const char* e = std::getenv("PHYNJO_INCLUDE_DIR"); e && *e) return e;
+    std::error_code ec;
+    const std::string self = fs::read_symlink("/proc/self/exe", ec).string();
+    const std::string build = PHYNJO_JIT_BINARY_DIR;
+    if (!build.empty() && self.rfind(build + "/", 0) == 0 && has_abi(PHYNJO_JIT_SOURCE_INCLUDE)) return PHYNJO_JIT_SOURCE_INCLUDE;
+    if (has_abi(PHYNJO_JIT_INSTALLED_INCLUDE)) return PHYNJO_JIT_INSTALLED_INCLUDE;
+    if (has_abi(PHYNJO_JIT_SOURCE_INCLUDE)) return PHYNJO_JIT_SOURCE_INCLUDE;
+    throw BuildError("phynjo's runtime headers are not found (set PHYNJO_INCLUDE_DIR to the folder holding "
+                     "phynjo/runtime/system/kernel_abi.h)");
+}
+
+std::string compiler_of(const JitOptions& o) {
+    if (!o.compiler.empty()) return o.compiler;
+    if (const char* e = std::getenv("CXX"); e && *e) return e;
+    return PHYNJO_JIT_CXX;
+}
+
+std::string shell_quoted(const std::string& s) {
+    std::string out = "'";
+    for (const char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return out + "'";
+}
+
+/// The first line `compiler --version` prints ("g++ (Debian 12.2.0-14) 12.2.0"), or empty
+/// when it does not run.
+std::string compiler_identity(const std::string& compiler) {
+    static std::mutex m;
+    static std::string last_compiler, last_identity;
+    std::lock_guard lock(m);
+    if (compiler == last_compiler) return last_identity;
+    std::string line;
+    if (std::FILE* p = ::popen((shell_quoted(compiler) + " --version 2>/dev/null").c_str(), "r")) {
+        char buf[512];
+        if (std::fgets(buf, sizeof buf, p)) line = buf;
+        ::pclose(p);
+    }
+    while (!line.empty() && (line.back() == '\n' || line.back() == '\r')) line.pop_back();
+    last_compiler = compiler;
+    last_identity = line;
+    return line;
+}
+
+/// The flags of every kernel (and of the precompiled header, which must match them): those of
+/// phynjo_add_model's model code (cmake/PhynjoAddModel.cmake) — every operation rounded once
+/// (-ffp-contract=off), so a kernel gives the bits of the CMake-built model.
+std::vector<std::string> kernel_flags() {
+    std::vector<std::string> f{"-std=c++20", "-O2", "-fPIC", "-fno-tree-slp-vectorize", "-ffp-contract=off", "-w"};
+    if (PHYNJO_JIT_LIBMVEC) f.push_back("-DPHYNJO_LIBMVEC=1");
+    return f;
+}
+
+/// Runs `command` (a shell line), its output into `log`: the exit status.
+int run(const std::string& command, const fs::path& log) {
+    const int rc = std::system((command + " >" + shell_quoted(log.string()) + " 2>&1").c_str());
+    return rc == -1 ? -1 : WIFEXITED(rc) ? WEXITSTATUS(rc) : 128;
+}
+
+/// The precompiled generated_functions.hpp for these flags, built once per cache: kernels then
+/// pay for their own code, not for the standard headers. Empty when it cannot be built (the
+/// kernel compiles without it, more slowly).
+fs::path precompiled_header(const fs::path& cache, const std::string& compiler, const fs::path& include,
+                            const std::string& flags_key, bool verbose) {
+    const fs::path dir = cache / "pch" / flags_key;
+    const fs::path gch = dir / "phynjo/runtime/system/generated_functions.hpp.gch";
+    if (fs::exists(gch)) return dir;
+    std::error_code ec;
+    fs::create_directories(gch.parent_path(), ec);
+    const fs::path tmp = temporary_beside(gch);
+    std::string cmd = shell_quoted(compiler);
+    for (const std::string& f : kernel_flags()) cmd += " " + f;
+    cmd += " -I" + shell_quoted(include.string()) + " -x c++-header " +
+           shell_quoted((include / "phynjo/runtime/system/generated_functions.hpp").string()) + " -o " +
+           shell_quoted(tmp.string());
+    const auto t0 = std::chrono::steady_clock::now();
+    if (run(cmd, dir / "build.log") != 0) {
+        fs::remove(tmp, ec);
+        return {};
+    }
+    // GCC takes X.gch only where X itself is found: the header beside it (a link to it)
+    const fs::path beside = dir / "phynjo/runtime/system/generated_functions.hpp";
+    if (!fs::exists(beside)) {
+        fs::create_symlink(include / "phynjo/runtime/system/generated_functions.hpp", beside, ec);
+        if (ec) fs::copy_file(include / "phynjo/runtime/system/generated_functions.hpp", beside, ec);
+    }
+    fs::rename(tmp, gch, ec);
+    if (verbose)
+        std::fprintf(stderr, "phynjo: precompiled the generated code's header in %.2f s (once per cache and compiler)\n",
+                     std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    return ec ? fs::path() : dir;
+}
+
+/// The checksum a kernel's bytes had when it was written (its `.sum` beside it).
+std::string checksum(const fs::path& p) { return Hash().add(read_text(p)).hex(); }
+
+/// True when the cached kernel loads and its bytes are those written.
+bool usable(const fs::path& so, const fs::path& sum) {
+    if (!fs::exists(so) || !fs::exists(sum)) return false;
+    if (read_text(sum) != checksum(so)) return false;
+    try {
+        (void)runtime::ModelKernel::load(so.string());
+        return true;
+    } catch (const runtime::KernelError&) {
+        return false;
+    }
+}
+
+} // namespace
+
+std::string cache_directory(const JitOptions& o) {
+    fs::path dir;
+    if (!o.cache_dir.empty()) dir = o.cache_dir;
+    else if (const char* e = std::getenv("PHYNJO_CACHE_DIR"); e && *e) dir = e;
+    else if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x) dir = fs::path(x) / "phynjo";
+    else if (const char* h = std::getenv("HOME"); h && *h) dir = fs::path(h) / ".cache" / "phynjo";
+    else dir = fs::temp_directory_path() / "phynjo-cache";
+    std::error_code ec;
+    fs::create_directories(dir / "kernels", ec);
+    if (ec || !fs::is_directory(dir / "kernels"))
+        throw std::runtime_error("cannot make the kernel cache " + (dir / "kernels").string() + ": " + ec.message());
+    return dir.string();
+}
+
+CompiledModel compile_model(std::string_view text, const std::string& source_name, const JitOptions& o) {
+    const fs::path cache = cache_directory(o);
+    const std::string compiler = compiler_of(o);
+    const std::string identity = compiler_identity(compiler);
+    if (identity.empty())
+        throw BuildError("no C++ compiler: '" + compiler + "' does not run (install Debian's g++, or set CXX)");
+    const fs::path include = include_dir();
+
+    // the key: what decides the kernel's bits
+    std::string flags;
+    for (const std::string& f : kernel_flags()) flags += f + " ";
+    Hash h;
+    h.add("phynjo kernel").add(std::to_string(PHYNJO_KERNEL_ABI_VERSION)).add(PHYNJO_VERSION).add(text).add(compiler).add(identity).add(flags);
+    for (const char* header : {"system/generated_functions.hpp", "system/kernel_abi.h", "core/errors.hpp", "system/detail/derived.hpp",
+                               "system/detail/kkt_solve.hpp", "system/detail/lanes.hpp", "system/detail/symmetric_solve.hpp"})
+        h.add(read_text(include / "phynjo/runtime" / header));
+    CompiledModel out;
+    out.key = h.hex();
+    const fs::path so = cache / "kernels" / (out.key + ".so"), sum = cache / "kernels" / (out.key + ".sum");
+    out.kernel_path = so.string();
+    if (usable(so, sum)) {
+        out.cache_hit = true;
+        if (o.verbose) std::fprintf(stderr, "phynjo: %s: the kernel is in the cache (%s)\n", source_name.c_str(), so.c_str());
+        return out;
+    }
+
+    // the model: parsed, derived, optimized, emitted (its own pool of expressions)
+    std::string kernel;
+    {
+        cas::Pool pool;
+        const cas::PoolScope scope(pool);
+        grammar::DiagnosticSink sink(source_name, text);
+        const auto model = codegen::read_model(text, source_name, sink);
+        std::optional<codegen::EquationsOfMotion> eom;
+        if (model) eom = codegen::derive(*model, sink);
+        if (!model || !eom) throw ModelError(sink.format_all());
+        kernel = codegen::emit_kernel(*model, codegen::optimize(*model, *eom), {}, PHYNJO_VERSION);
+    }
+    const fs::path cpp = cache / "kernels" / (out.key + ".cpp"), log = cache / "kernels" / (out.key + ".log");
+    const fs::path cpp_tmp = temporary_beside(cpp);
+    if (!write_text(cpp_tmp, kernel)) throw std::runtime_error("cannot write " + cpp_tmp.string());
+    std::error_code ec;
+    fs::rename(cpp_tmp, cpp, ec);
+
+    const fs::path pch = precompiled_header(cache, compiler, include, Hash().add(compiler).add(identity).add(flags).add(read_text(include / "phynjo/runtime/system/generated_functions.hpp")).hex(), o.verbose);
+    const fs::path so_tmp = temporary_beside(so);
+    std::string cmd = shell_quoted(compiler);
+    for (const std::string& f : kernel_flags()) cmd += " " + f;
+    if (!pch.empty()) cmd += " -I" + shell_quoted(pch.string());
+    cmd += " -I" + shell_quoted(include.string()) + " -shared -o " + shell_quoted(so_tmp.string()) + " " + shell_quoted(cpp.string());
+    if (PHYNJO_JIT_LIBMVEC) cmd += " -lmvec";
+    const auto t0 = std::chrono::steady_clock::now();
+    const int rc = run(cmd, log);
+    out.compile_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (rc != 0) {
+        fs::remove(so_tmp, ec);
+        std::string output = read_text(log);
+        if (output.size() > 4000) output = output.substr(0, 4000) + "\n…";
+        throw BuildError("the C++ compiler failed on the kernel of " + source_name + " (" + cpp.string() + "):\n" + cmd + "\n" +
+                         output);
+    }
+    // the checksum first, then the kernel: a reader finding the kernel finds its checksum
+    const fs::path sum_tmp = temporary_beside(sum);
+    if (!write_text(sum_tmp, checksum(so_tmp))) throw std::runtime_error("cannot write " + sum_tmp.string());
+    fs::rename(sum_tmp, sum, ec);
+    fs::rename(so_tmp, so, ec);
+    if (ec) throw std::runtime_error("cannot write " + so.string() + ": " + ec.message());
+    if (o.verbose)
+        std::fprintf(stderr, "phynjo: %s: compiled its kernel in %.2f s (%s)\n", source_name.c_str(), out.compile_seconds, so.c_str());
+    return out;
+}
+
+CompiledModel compile_model_file(const std::string& path, const JitOptions& o) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw std::runtime_error("cannot read '" + path + "'");
+    std::ostringstream s;
+    s << in.rdbuf();
+    return compile_model(s.str(), path, o);
+}
+
+} // namespace phynjo::jit
