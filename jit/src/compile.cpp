@@ -9,6 +9,8 @@
 #include "phynjo/grammar/diagnostics.hpp"
 #include "phynjo/runtime/system/kernel.hpp"
 
+#include <dlfcn.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <array>
@@ -135,6 +137,18 @@ std::string compiler_identity(const std::string& compiler) {
     return line;
 }
 
+/// This phynjo's build: the file holding this code (an executable, or the Python module),
+/// its size and time. A rebuilt phynjo may emit other kernels for the same text, even at the
+/// same version: it does not reuse the kernels of the build before.
+std::string build_identity() {
+    Dl_info info{};
+    if (::dladdr(reinterpret_cast<const void*>(&build_identity), &info) == 0 || !info.dli_fname) return "unknown build";
+    struct stat st {};
+    if (::stat(info.dli_fname, &st) != 0) return info.dli_fname;
+    return std::string(info.dli_fname) + ":" + std::to_string(st.st_size) + ":" + std::to_string(st.st_mtim.tv_sec) + "." +
+           std::to_string(st.st_mtim.tv_nsec);
+}
+
 /// The flags of every kernel (and of the precompiled header, which must match them): those of
 /// phynjo_add_model's model code (cmake/PhynjoAddModel.cmake) — every operation rounded once
 /// (-ffp-contract=off), so a kernel gives the bits of the CMake-built model.
@@ -227,7 +241,7 @@ CompiledModel compile_model(std::string_view text, const std::string& source_nam
     std::string flags;
     for (const std::string& f : kernel_flags()) flags += f + " ";
     Hash h;
-    h.add("phynjo kernel").add(std::to_string(PHYNJO_KERNEL_ABI_VERSION)).add(PHYNJO_VERSION).add(text).add(compiler).add(identity).add(flags);
+    h.add("phynjo kernel").add(std::to_string(PHYNJO_KERNEL_ABI_VERSION)).add(PHYNJO_VERSION).add(build_identity()).add(text).add(compiler).add(identity).add(flags);
     for (const char* header : {"system/generated_functions.hpp", "system/kernel_abi.h", "core/errors.hpp", "system/detail/derived.hpp",
                                "system/detail/kkt_solve.hpp", "system/detail/lanes.hpp", "system/detail/symmetric_solve.hpp"})
         h.add(read_text(include / "phynjo/runtime" / header));

@@ -13,6 +13,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <random>
@@ -23,7 +24,21 @@ using namespace phynjo::runtime;
 
 namespace {
 
-std::string cache() { return (std::filesystem::temp_directory_path() / "phynjo-test-kernels").string(); }
+/// A cache of this process's own, removed at its end.
+std::string cache() {
+    static const struct Folder {
+        std::string path;
+        Folder() {
+            std::string t = (std::filesystem::temp_directory_path() / "phynjo-test-kernels-XXXXXX").string();
+            path = ::mkdtemp(t.data()) ? t : std::string();
+        }
+        ~Folder() {
+            std::error_code ec;
+            if (!path.empty()) std::filesystem::remove_all(path, ec);
+        }
+    } folder;
+    return folder.path;
+}
 
 std::shared_ptr<const ModelKernel> kernel_of(const std::string& path) {
     jit::JitOptions options;
