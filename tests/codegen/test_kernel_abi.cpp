@@ -192,7 +192,7 @@ TEST_CASE("kernels: every function bit for bit the CMake-built model's", "[codeg
 // Bugs caught: a kernel's failure lost at the C boundary (a NaN, or a generic error where the
 // typed one is documented), the kernel unloaded while a system still calls it, parameters by
 // an unknown name accepted.
-TEST_CASE("kernels: typed errors through the C table; the kernel outlives its systems", "[codegen][kernel][errors]") {
+TEST_CASE("kernels: typed errors through the C table, and the kernel outlives its systems", "[codegen][kernel][errors]") {
     LagrangianSystem sys;
     {
         const auto k = kernel_of(PHYNJO_SOURCE_DIR "/examples/models/double_pendulum.lag");
