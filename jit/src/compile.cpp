@@ -91,8 +91,8 @@ fs::path temporary_beside(const fs::path& p) {
 }
 
 /// The runtime headers a kernel includes: $PHYNJO_INCLUDE_DIR, else the source tree's when
-/// this program runs from phynjo's build tree, else the installed ones (then the source
-/// tree's, for a program outside both).
+/// this program runs from phynjo's build tree, else PREFIX/include beside the installed program,
+/// else the configured install folder's (then the source tree's, for a program outside all).
 fs::path include_dir() {
     const auto has_abi = [](const fs::path& d) { return !d.empty() && fs::exists(d / "phynjo/runtime/system/kernel_abi.h"); };
     if (const char* e = std::getenv("PHYNJO_INCLUDE_DIR"); e && *e) return e;
@@ -100,6 +100,12 @@ fs::path include_dir() {
     const std::string self = fs::read_symlink("/proc/self/exe", ec).string();
     const std::string build = PHYNJO_JIT_BINARY_DIR;
     if (!build.empty() && self.rfind(build + "/", 0) == 0 && has_abi(PHYNJO_JIT_SOURCE_INCLUDE)) return PHYNJO_JIT_SOURCE_INCLUDE;
+    // installed: PREFIX/bin/phynjo-run (or PREFIX/lib/… for a library) beside PREFIX/include
+    Dl_info info{};
+    if (::dladdr(reinterpret_cast<const void*>(&include_dir), &info) != 0 && info.dli_fname) {
+        const fs::path prefix = fs::absolute(info.dli_fname, ec).parent_path().parent_path();
+        if (has_abi(prefix / "include")) return prefix / "include";
+    }
     if (has_abi(PHYNJO_JIT_INSTALLED_INCLUDE)) return PHYNJO_JIT_INSTALLED_INCLUDE;
     if (has_abi(PHYNJO_JIT_SOURCE_INCLUDE)) return PHYNJO_JIT_SOURCE_INCLUDE;
     throw BuildError("phynjo's runtime headers are not found (set PHYNJO_INCLUDE_DIR to the folder holding "
