@@ -22,6 +22,13 @@ namespace {
 using detail::whole_number;
 std::optional<double> number(std::string_view s) { return detail::finite_number(s); }
 
+/// A time for a message on the page: "%.10g".
+std::string seconds(double t) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.10g", t);
+    return buf;
+}
+
 struct UsageError {
     std::string message;
 };
@@ -567,20 +574,16 @@ int Simulator::run() {
         if (const std::string st = run->statistics(); !st.empty()) std::fprintf(stderr, "%s\n", st.c_str());
     } catch (const std::exception& e) {
         std::fprintf(stderr, "%s: simulation stopped at t = %.17g: %s\n", argv[0], w.time, e.what());
-        char at[64];
-        std::snprintf(at, sizeof at, "%.10g", w.time);
-        stop_reason = std::string("the simulation failed at t = ") + at + " s: " + e.what();
+        stop_reason = "the simulation failed at t = " + seconds(w.time) + " s: " + e.what();
         status = 1;
     }
     csv.close();
     if (recorder) { // what it recorded, also when the run failed or an event stopped it
         recorder->capture_last(w);
         for (const EventRecord& r : monitor.log()) recorder->mark_event(r.time, sys.event_names[r.event]);
-        if (monitor.stopped() && !monitor.log().empty() && stop_reason.empty()) {
-            char at[64];
-            std::snprintf(at, sizeof at, "%.10g", monitor.log().back().time);
-            stop_reason = "stopped by the event " + sys.event_names[monitor.log().back().event] + " at t = " + at + " s";
-        }
+        if (monitor.stopped() && !monitor.log().empty() && stop_reason.empty())
+            stop_reason = "stopped by the event " + sys.event_names[monitor.log().back().event] + " at t = " +
+                          seconds(monitor.log().back().time) + " s";
         recorder->set_stop_reason(stop_reason);
         try {
             recorder->write_html(html_output);

@@ -40,6 +40,17 @@ std::int16_t quantize(double c) {
     return static_cast<std::int16_t>(std::lround(std::clamp(c, -1.0, 1.0) * 32767.0));
 }
 
+/// Σ ½ m v² + ½ ω·I_W ω of the rigid bodies `bodies` of `w`, J (rigid_kinetic_energy over
+/// some of a world's components: a scene's proxies and coordinates are not bodies).
+double kinetic_energy(const World& w, std::span<const Index> bodies) {
+    double e = 0;
+    for (const Index c : bodies) {
+        const Eigen::Vector3d v = velocity(w, c), om = angular_velocity(w, c);
+        e += 0.5 * w.at(kMass, c) * v.squaredNorm() + 0.5 * om.dot(world_inertia(w, c) * om);
+    }
+    return e;
+}
+
 std::string json_string(std::string_view s) {
     std::string out = "\"";
     for (const char c : s) {
@@ -135,6 +146,11 @@ struct Recorder::Impl {
     double t_first = 0, interval = 1.0 / 60;
     long next_k = 0;
 
+    /// The index k of the next frame due at t_first + k·interval after a frame at time t
+    /// (within 1e-9 of an interval counts as reached: k·dt meeting j/fps to rounding).
+    [[nodiscard]] long next_after(double t) const {
+        return static_cast<long>(std::floor((t - t_first) / interval + 1e-9)) + 1;
+    }
     void declare() const {
         if (!times.empty()) throw std::logic_error("Recorder: what to draw is declared before the first capture");
     }
@@ -194,7 +210,7 @@ struct Recorder::Impl {
         halve(positions, floats_per_frame);
         halve(orientations, 4 * quaternions_per_frame);
         interval *= 2;
-        next_k = static_cast<long>(std::floor((times.back() - t_first) / interval + 1e-9)) + 1;
+        next_k = next_after(times.back());
         char buf[200];
         std::snprintf(buf, sizeof buf,
                       "the run is longer than a page carries (%zu MB of frames): kept %.4g frames per simulated second",
@@ -234,12 +250,7 @@ void Recorder::add_rigid_bodies(const World& w, const ComponentSet& bodies) {
             s.positions.push_back(static_cast<float>(world.at(kZ, c)));
             for (FieldId f : {kQW, kQX, kQY, kQZ}) s.orientations.push_back(quantize(world.at(f, c)));
         }
-        double ke = 0;
-        for (const Index c : idx) {
-            const Eigen::Vector3d v = velocity(world, c), om = angular_velocity(world, c);
-            ke += 0.5 * world.at(kMass, c) * v.squaredNorm() + 0.5 * om.dot(world_inertia(world, c) * om);
-        }
-        s.series[energy].push_back(ke);
+        s.series[energy].push_back(kinetic_energy(world, idx));
     });
 }
 
@@ -305,11 +316,7 @@ void Recorder::add_scene(const Scene& scene) {
     std::vector<Index> bodies(scene.bodies.indices().begin(), scene.bodies.indices().end());
     impl_->readers.push_back([bodies = std::move(bodies), models = scene.models, f = scene.q, fd = scene.qd, energy,
                               q = std::vector<double>(), v = std::vector<double>()](const World& w, FrameSink& s) mutable {
-        double e = 0;
-        for (const Index c : bodies) {
-            const Eigen::Vector3d vel = velocity(w, c), om = angular_velocity(w, c);
-            e += 0.5 * w.at(kMass, c) * vel.squaredNorm() + 0.5 * om.dot(world_inertia(w, c) * om);
-        }
+        double e = kinetic_energy(w, bodies);
         for (const PlacedModel& m : models) {
             q.resize(m.coordinates.size());
             v.resize(m.coordinates.size());
@@ -335,10 +342,10 @@ bool Recorder::capture(const World& w) {
         m.take(w);
         return true;
     }
-    // due at t_first + k/fps; within 1e-9 of an interval counts (k·dt reaching it with rounding)
+    // due at t_first + next_k·interval (next_after's tolerance)
     if (w.time - m.t_first < (static_cast<double>(m.next_k) - 1e-9) * m.interval) return false;
     m.take(w);
-    m.next_k = static_cast<long>(std::floor((w.time - m.t_first) / m.interval + 1e-9)) + 1;
+    m.next_k = m.next_after(w.time);
     return true;
 }
 
