@@ -91,20 +91,25 @@ fs::path temporary_beside(const fs::path& p) {
 }
 
 /// The runtime headers a kernel includes: $PHYNJO_INCLUDE_DIR, else the source tree's when
-/// this program runs from phynjo's build tree, else PREFIX/include beside the installed program,
-/// else the configured install folder's (then the source tree's, for a program outside all).
+/// this program (or the library holding this code: the Python module) is in phynjo's build
+/// tree, else the nearest include/ above that file that holds them (PREFIX/include beside
+/// PREFIX/bin/phynjo-run or PREFIX/lib/python3.X/dist-packages/phynjo), else the configured
+/// install folder's (then the source tree's, for a program outside all).
 fs::path include_dir() {
     const auto has_abi = [](const fs::path& d) { return !d.empty() && fs::exists(d / "phynjo/runtime/system/kernel_abi.h"); };
     if (const char* e = std::getenv("PHYNJO_INCLUDE_DIR"); e && *e) return e;
     std::error_code ec;
     const std::string self = fs::read_symlink("/proc/self/exe", ec).string();
+    std::string library;
+    if (Dl_info info{}; ::dladdr(reinterpret_cast<const void*>(&include_dir), &info) != 0 && info.dli_fname)
+        library = fs::weakly_canonical(fs::absolute(info.dli_fname, ec), ec).string();
     const std::string build = PHYNJO_JIT_BINARY_DIR;
-    if (!build.empty() && self.rfind(build + "/", 0) == 0 && has_abi(PHYNJO_JIT_SOURCE_INCLUDE)) return PHYNJO_JIT_SOURCE_INCLUDE;
-    // installed: PREFIX/bin/phynjo-run (or PREFIX/lib/… for a library) beside PREFIX/include
-    Dl_info info{};
-    if (::dladdr(reinterpret_cast<const void*>(&include_dir), &info) != 0 && info.dli_fname) {
-        const fs::path prefix = fs::absolute(info.dli_fname, ec).parent_path().parent_path();
-        if (has_abi(prefix / "include")) return prefix / "include";
+    const auto in_build = [&](const std::string& f) { return !build.empty() && f.rfind(build + "/", 0) == 0; };
+    if ((in_build(self) || in_build(library)) && has_abi(PHYNJO_JIT_SOURCE_INCLUDE)) return PHYNJO_JIT_SOURCE_INCLUDE;
+    for (const std::string& file : {library, self}) {
+        if (file.empty()) continue;
+        for (fs::path d = fs::path(file).parent_path(); !d.empty() && d != d.root_path(); d = d.parent_path())
+            if (has_abi(d / "include")) return d / "include";
     }
     if (has_abi(PHYNJO_JIT_INSTALLED_INCLUDE)) return PHYNJO_JIT_INSTALLED_INCLUDE;
     if (has_abi(PHYNJO_JIT_SOURCE_INCLUDE)) return PHYNJO_JIT_SOURCE_INCLUDE;
@@ -177,7 +182,19 @@ fs::path precompiled_header(const fs::path& cache, const std::string& compiler, 
                             const std::string& flags_key, bool verbose) {
     const fs::path dir = cache / "pch" / flags_key;
     const fs::path gch = dir / "phynjo/runtime/system/generated_functions.hpp.gch";
-    if (fs::exists(gch)) return dir;
+    // GCC takes X.gch only where X itself is found: a copy of the header beside it (the key
+    // holds the header's text; a link would dangle once the tree it points into is gone)
+    const fs::path beside = dir / "phynjo/runtime/system/generated_functions.hpp";
+    const auto place_header = [&] {
+        std::error_code e;
+        if (fs::exists(beside, e)) return true; // (a dangling link does not exist)
+        fs::remove(beside, e);
+        const fs::path tmp = temporary_beside(beside);
+        fs::copy_file(include / "phynjo/runtime/system/generated_functions.hpp", tmp, e);
+        if (!e) fs::rename(tmp, beside, e);
+        return !e && fs::exists(beside, e);
+    };
+    if (fs::exists(gch)) return place_header() ? dir : fs::path();
     std::error_code ec;
     fs::create_directories(gch.parent_path(), ec);
     const fs::path tmp = temporary_beside(gch);
@@ -191,11 +208,9 @@ fs::path precompiled_header(const fs::path& cache, const std::string& compiler, 
         fs::remove(tmp, ec);
         return {};
     }
-    // GCC takes X.gch only where X itself is found: the header beside it (a link to it)
-    const fs::path beside = dir / "phynjo/runtime/system/generated_functions.hpp";
-    if (!fs::exists(beside)) {
-        fs::create_symlink(include / "phynjo/runtime/system/generated_functions.hpp", beside, ec);
-        if (ec) fs::copy_file(include / "phynjo/runtime/system/generated_functions.hpp", beside, ec);
+    if (!place_header()) {
+        fs::remove(tmp, ec);
+        return {};
     }
     fs::rename(tmp, gch, ec);
     if (verbose)

@@ -43,26 +43,28 @@ struct StepPlan {
 /// the events' first times and a stop's reason.
 class RunRecorder {
 public:
-    RunRecorder(const World& w, RunSummary& r, long every, std::string* trajectory)
-        : w_(w), r_(r), trajectory_(trajectory), q_(w.field(kGQ).data()), v_(w.field(kGV).data()), dof_(w.field(kGQ).size()),
-          every_(std::max(1L, every)) {}
+    RunRecorder(const World& w, RunSummary& r, long every, bool event_log, std::string* trajectory,
+                std::vector<double>* values = nullptr)
+        : w_(w), r_(r), trajectory_(trajectory), values_(values), q_(w.field(kGQ).data()), v_(w.field(kGV).data()),
+          dof_(w.field(kGQ).size()), every_(std::max(1L, every)), event_log_(event_log) {}
     /// At the initial state: E(0) = `e0`, the first row.
     void begin(double e0) {
         e0_ = e0;
         scale_ = std::max(1.0, std::abs(e0));
-        if (trajectory_) row(e0);
+        if (trajectory_ || values_) row(e0);
     }
     /// After whole step `k` (the last one when `last_step`), E there = `e`.
     void operator()(long k, bool last_step, double e) {
         for (std::size_t i = 0; i < dof_; ++i)
             if (!std::isfinite(q_[i]) || !std::isfinite(v_[i])) throw Error("the state is not finite");
         r_.max_energy_error = std::max(r_.max_energy_error, std::abs(e - e0_) / scale_);
-        if (trajectory_ && (last_step || k % every_ == 0)) row(e);
+        if ((trajectory_ || values_) && (last_step || k % every_ == 0)) row(e);
     }
     /// The run is over without an error: the events' first times, a stop's reason.
     void complete(const LagrangianSystem& sys, const EventMonitor& monitor) {
         for (const EventRecord& e : monitor.log())
             if (std::isnan(r_.first_event[e.event])) r_.first_event[e.event] = e.time;
+        if (event_log_) r_.events.assign(monitor.log().begin(), monitor.log().end());
         if (monitor.stopped() && !monitor.log().empty()) {
             r_.status = RunSummary::Status::stopped;
             r_.reason = "event " + sys.event_names[monitor.log().back().event];
@@ -71,6 +73,13 @@ public:
 
 private:
     void row(double e) {
+        if (values_) {
+            values_->push_back(w_.time);
+            values_->insert(values_->end(), q_, q_ + dof_);
+            values_->insert(values_->end(), v_, v_ + dof_);
+            values_->push_back(e);
+        }
+        if (!trajectory_) return;
         std::string& out = *trajectory_;
         append_number(out, w_.time);
         for (std::size_t i = 0; i < dof_; ++i) out += ',', append_number(out, q_[i]);
@@ -81,10 +90,12 @@ private:
     const World& w_;
     RunSummary& r_;
     std::string* trajectory_;
+    std::vector<double>* values_;
     const double* q_;
     const double* v_;
     std::size_t dof_;
     long every_;
+    bool event_log_;
     double e0_ = 0, scale_ = 1;
 };
 
@@ -194,8 +205,9 @@ private:
 class FastRun {
 public:
     FastRun(const LagrangianSystem& sys, std::span<const std::pair<std::size_t, double>> q0,
-            std::span<const std::pair<std::size_t, double>> v0, const RunSettings& settings, std::string* trajectory)
-        : sys_(sys), w_(make_lagrangian_world(sys)), record_(w_, r_, settings.every, trajectory) {
+            std::span<const std::pair<std::size_t, double>> v0, const RunSettings& settings, std::string* trajectory,
+            std::vector<double>* values = nullptr)
+        : sys_(sys), w_(make_lagrangian_world(sys)), record_(w_, r_, settings.every, settings.event_log, trajectory, values) {
         r_.first_event.assign(sys.n_events, std::numeric_limits<double>::quiet_NaN());
         for (const auto& [i, v] : q0) w_.at(kGQ, static_cast<Index>(i)) = v;
         for (const auto& [i, v] : v0) w_.at(kGV, static_cast<Index>(i)) = v;
@@ -275,7 +287,7 @@ bool fast_path(const LagrangianSystem& sys, const RunSettings& settings) {
 
 RunSummary run_one(const LagrangianSystem& sys, std::span<const std::pair<std::size_t, double>> q0,
                    std::span<const std::pair<std::size_t, double>> v0, const RunSettings& settings,
-                   std::string* trajectory) {
+                   std::string* trajectory, std::vector<double>* values) {
     const IntegratorEntry* entry = find_integrator(settings.integrator);
     if (!entry || !entry->sweeps)
         throw std::invalid_argument("run_one: integrator '" + settings.integrator + "' does not run in sweeps (" +
@@ -286,7 +298,7 @@ RunSummary run_one(const LagrangianSystem& sys, std::span<const std::pair<std::s
         // whose guards the monitor reads (a state's sines and cosines computed once). The
         // same bits as the workflow below: the same functions' arithmetic in the same order,
         // the exceptions thrown where they would be (tests/codegen/test_kernels.cpp).
-        FastRun f(sys, q0, v0, settings, trajectory);
+        FastRun f(sys, q0, v0, settings, trajectory, values);
         while (const KernelCall* c = f.next()) {
             bool ok = false;
             try {
@@ -311,7 +323,7 @@ RunSummary run_one(const LagrangianSystem& sys, std::span<const std::pair<std::s
     };
     try {
         if (sys.n_constraints > 0) check_constraints(sys, 0, w.field(kGQ), w.field(kGV));
-        RunRecorder record(w, r, settings.every, trajectory);
+        RunRecorder record(w, r, settings.every, settings.event_log, trajectory, values);
         record.begin(sys.energy(0, w.field(kGQ), w.field(kGV)));
         const long steps = detail::whole_steps(settings.t_end, settings.dt);
         const double last = settings.t_end - static_cast<double>(steps) * settings.dt;
@@ -325,6 +337,8 @@ RunSummary run_one(const LagrangianSystem& sys, std::span<const std::pair<std::s
         IntegratorSettings is;
         is.dt = settings.dt;
         is.projection = settings.projection;
+        is.rtol = settings.rtol;
+        is.atol = settings.atol;
         const std::unique_ptr<RunIntegrator> run = entry->make(sys, w, is, with_events);
         for (long k = 1; k <= total; ++k) {
             const double target = k <= steps ? static_cast<double>(k) * settings.dt : settings.t_end;

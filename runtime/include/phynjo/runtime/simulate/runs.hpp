@@ -7,6 +7,7 @@
 #include "phynjo/runtime/system/lagrangian_system.hpp"
 
 #include <functional>
+#include <optional>
 #include <span>
 #include <string>
 #include <utility>
@@ -23,6 +24,7 @@ struct RunSummary {
     std::vector<double> q, qdot;   ///< the state there
     std::vector<double> first_event; ///< per event: when it first fired, NaN if never
     double max_energy_error = 0;   ///< max over the steps of |E − E(0)| / max(1, |E(0)|)
+    std::vector<EventRecord> events; ///< every event that fired, in order (with RunSettings::event_log)
 };
 
 /// How every run of a sweep is stepped.
@@ -32,6 +34,10 @@ struct RunSettings {
     EventOptions events;
     ProjectionOptions projection;
     long every = 1; ///< a trajectory's rows: every `every`-th step (the first and last always)
+    /// The adaptive integrators' tolerances (dopri: its defaults when unset).
+    std::optional<double> rtol, atol;
+    /// Keep every event that fired (time, which, the state after it) in RunSummary::events.
+    bool event_log = false;
     /// run_many (a sweep's runs) steps lane_width runs at a time in the lanes of SIMD registers
     /// where the model has lane kernels (the default; simulators: --no-lanes turns it off). A
     /// run's sines are then libmvec's, so its summary agrees with run_one's (one run's
@@ -45,11 +51,12 @@ struct RunSettings {
 /// run: a thrown error, a non-finite state or a constraint violated at the start are a
 /// `failed` summary with the reason; a `stop` event is a `stopped` one. With `trajectory`, the
 /// run's rows are appended to it as CSV lines `t,q…,q'…,E` (%.17g; the simulator's --output
-/// without its header): t = 0, every `settings.every`-th step, and the last step.
+/// without its header): t = 0, every `settings.every`-th step, and the last step. With
+/// `values`, the same rows as numbers (t, q…, q'…, E: 2·dof + 2 a row), the bits the text prints.
 /// std::invalid_argument when `settings.integrator` does not run in sweeps.
 RunSummary run_one(const LagrangianSystem& system, std::span<const std::pair<std::size_t, double>> q0,
                    std::span<const std::pair<std::size_t, double>> v0, const RunSettings& settings,
-                   std::string* trajectory = nullptr);
+                   std::string* trajectory = nullptr, std::vector<double>* values = nullptr);
 
 /// One run of run_many: its initial values (as run_one's q0 and v0), optionally the string its
 /// trajectory rows are appended to, and its own system (the same model with other parameters;
