@@ -318,7 +318,8 @@ CompiledModel compile_model(std::string_view text, const std::string& source_nam
     fs::rename(so_tmp, so, ec);
     if (ec) throw std::runtime_error("cannot write " + so.string() + ": " + ec.message());
     if (o.verbose)
-        std::fprintf(stderr, "phynjo: %s: compiled its kernel in %.2f s (%s)\n", source_name.c_str(), out.compile_seconds, so.c_str());
+        std::fprintf(stderr, "phynjo: %s: compiled its kernel in %.2f s (%s, with the headers in %s)\n", source_name.c_str(),
+                     out.compile_seconds, so.c_str(), include.c_str());
     return out;
 }
 
