@@ -228,19 +228,42 @@ class Model:
         return q0, v0
 
     def simulate(self, t_end=10.0, dt=1e-3, integrator="midpoint", params=None, initial=None, every=1,
-                 rtol=None, atol=None):
+                 rtol=None, atol=None, inputs=None, control=None, control_every=1):
         """One run from the model's initial state (`initial` overrides values: {"th": 0.1,
         "th'": 0}) to t_end (s), steps of dt (s; Dormand-Prince's first trial step and its
         output spacing), with the model's events. The integrators are those sweeps run:
         rk4, dopri (rtol, atol), midpoint, rattle. The run is the simulator's: the same bits
         as `phynjo-run MODEL --t-end ... --output` (every `every`-th step, the first and the
         last). A run that fails (a singular matrix, a NaN) is a Result with status 'failed'
-        and the reason, not an exception."""
+        and the reason, not an exception.
+
+        Inputs varying in time (the model's `input` names):
+        `inputs={"F": (times, values)}` — a table sampled in time, piecewise linear between
+        the samples and held beyond them, seen by the model at every time it is evaluated
+        at (each stage of a step);
+        `control=f` — f(t, q, qd) returns {input: value}, called at t = 0 and every
+        `control_every` steps with the state there; the values hold until the next call
+        (zero-order hold: a sampled controller). What f raises is raised by simulate."""
         p = self._params(params or {})
         q0, v0 = self._initial_pairs(initial)
-        d = self._k.simulate(float(t_end), float(dt), str(integrator), p, q0, v0, int(every), rtol, atol)
+        table = []
+        for name, sampled in (inputs or {}).items():
+            if name not in self.inputs:
+                raise ValueError(f"inputs: '{name}' is not an input of {self.name} "
+                                 f"(inputs: {', '.join(self.inputs) or 'none'})")
+            try:
+                times, values = sampled
+            except (TypeError, ValueError):
+                raise ValueError(f"inputs['{name}'] must be (times, values)") from None
+            times = np.ravel(_as_array(times, f"inputs['{name}'] times"))
+            values = np.ravel(_as_array(values, f"inputs['{name}'] values"))
+            table.append((name, times.tolist(), values.tolist()))
+        if control is not None and not callable(control):
+            raise TypeError("control must be callable: control(t, q, qd) -> {input: value}")
+        d = self._k.simulate(float(t_end), float(dt), str(integrator), p, q0, v0, int(every), rtol, atol,
+                             table, control, int(control_every))
         options = dict(t_end=float(t_end), dt=float(dt), integrator=str(integrator), params=p,
-                       initial=dict(initial or {}), rtol=rtol, atol=atol)
+                       initial=dict(initial or {}), rtol=rtol, atol=atol, varying=bool(table) or control is not None)
         return Result(self, d, options)
 
     def run(self, *args):
@@ -389,6 +412,9 @@ class Result:
         same run again through the simulator's --html. Written to `path` (returned), or returned
         as text when `path` is None."""
         o = self._options
+        if o["varying"]:
+            raise PhynjoError("html(): the animation re-runs the model through the command line, which has no "
+                              "inputs varying in time; this run had inputs= or control=")
         args = self.model._run_options(o["t_end"], o["dt"], o["integrator"], o["params"], o["initial"],
                                        o["rtol"], o["atol"])
         with tempfile.TemporaryDirectory(prefix="phynjo-html-") as tmp:

@@ -11,17 +11,21 @@
 #include "phynjo/runtime/simulate/model_main.hpp"
 #include "phynjo/runtime/simulate/runs.hpp"
 #include "phynjo/runtime/system/kernel.hpp"
+#include "phynjo/runtime/system/timed_inputs.hpp"
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <iostream>
 #include <memory>
 #include <optional>
 #include <string>
+#include <tuple>
 #include <vector>
 
 namespace py = pybind11;
@@ -148,7 +152,7 @@ py::array evaluate(const Kernel& k, Fn f, const Array& q, const Array& qd, doubl
             for (std::size_t i = 0; i < states && status == PHYNJO_OK; ++i) status = g(p, t, qp + i * n, vp + i * n, op + i * m);
     }
     k.kernel->check(status);
-    return std::move(out);
+    return out;
 }
 
 /// A vector as a NumPy array that owns it (no copy).
@@ -167,11 +171,42 @@ const char* status_name(runtime::RunSummary::Status s) {
     return "failed";
 }
 
+/// An input given as a table sampled in time: piecewise linear between the samples, held
+/// beyond them.
+struct TimedInput {
+    std::size_t index; ///< the parameter's index in the kernel's table
+    std::vector<double> times, values;
+    [[nodiscard]] double at(double t) const {
+        if (t <= times.front()) return values.front();
+        if (t >= times.back()) return values.back();
+        const auto i = static_cast<std::size_t>(std::upper_bound(times.begin(), times.end(), t) - times.begin());
+        const double s = (t - times[i - 1]) / (times[i] - times[i - 1]);
+        return values[i - 1] + s * (values[i] - values[i - 1]);
+    }
+};
+
+/// The index of input `name`, or std::invalid_argument naming the model's inputs.
+std::size_t input_index(const Kernel& k, const std::string& name) {
+    const phynjo_kernel& t = k.table();
+    for (std::size_t i = 0; i < t.n_parameters; ++i)
+        if (t.parameter_is_input[i] && name == t.parameter_names[i]) return i;
+    std::string names;
+    for (std::size_t i = 0; i < t.n_parameters; ++i)
+        if (t.parameter_is_input[i]) names += (names.empty() ? "" : ", ") + std::string(t.parameter_names[i]);
+    std::string message = "'"; // (appended: GCC 12 misreads a chain of + here as an overflow)
+    message.append(name).append("' is not an input of ").append(t.model_name).append(" (inputs: ");
+    message.append(names.empty() ? "none" : names).append(")");
+    throw std::invalid_argument(message);
+}
+
 /// One run (runtime/simulate/runs.hpp's run_one): its rows t, q…, q'…, E as one array and its
-/// summary.
+/// summary. `inputs`: name → (times, values), each input at every evaluation time;
+/// `control`: a callable (t, q, q') → {input: value} every `control_every` steps.
 py::dict simulate(const Kernel& k, double t_end, double dt, const std::string& integrator, const py::dict& params,
                   const std::vector<std::pair<std::size_t, double>>& q0, const std::vector<std::pair<std::size_t, double>>& v0,
-                  long every, std::optional<double> rtol, std::optional<double> atol) {
+                  long every, std::optional<double> rtol, std::optional<double> atol,
+                  const std::vector<std::tuple<std::string, std::vector<double>, std::vector<double>>>& inputs,
+                  const py::object& control, long control_every) {
     if (!(std::isfinite(t_end) && t_end >= 0)) throw py::value_error("t_end must be finite and >= 0");
     if (!(std::isfinite(dt) && dt > 0)) throw py::value_error("dt must be finite and > 0");
     if (every < 1) throw py::value_error("every must be >= 1");
@@ -185,7 +220,22 @@ py::dict simulate(const Kernel& k, double t_end, double dt, const std::string& i
         if (i >= n || !std::isfinite(v)) throw py::value_error("initial values: a coordinate index or value is wrong");
     for (const auto& [i, v] : v0)
         if (i >= n || !std::isfinite(v)) throw py::value_error("initial values: a velocity index or value is wrong");
-    const KernelParameters P = parameters_of(k, params);
+    std::vector<TimedInput> timed;
+    for (const auto& [name, times, values] : inputs) {
+        TimedInput in{input_index(k, name), times, values};
+        if (times.empty() || times.size() != values.size())
+            throw py::value_error("inputs['" + name + "']: times and values of one length, at least one sample");
+        for (std::size_t i = 0; i < times.size(); ++i) {
+            if (!std::isfinite(times[i]) || !std::isfinite(values[i]))
+                throw py::value_error("inputs['" + name + "']: times and values must be finite");
+            if (i > 0 && !(times[i] > times[i - 1]))
+                throw py::value_error("inputs['" + name + "']: times must increase");
+        }
+        timed.push_back(std::move(in));
+    }
+    if (control_every < 1) throw py::value_error("control_every must be >= 1");
+    if (!control.is_none() && !PyCallable_Check(control.ptr())) throw py::type_error("control must be callable: (t, q, qd) -> {input: value}");
+    KernelParameters P = parameters_of(k, params);
     runtime::RunSettings s;
     s.t_end = t_end;
     s.dt = dt;
@@ -194,13 +244,46 @@ py::dict simulate(const Kernel& k, double t_end, double dt, const std::string& i
     s.rtol = rtol;
     s.atol = atol;
     s.event_log = true;
+    // what the control function raised (or its result's misuse), raised again here; run_one
+    // sees a plain error (no Python object leaves the interpreter's lock)
+    std::exception_ptr control_error;
+    const std::size_t n_state = k.table().dof;
+    if (!control.is_none()) {
+        s.control_every = control_every;
+        s.control = [&](double t, std::span<const double> q, std::span<const double> v) {
+            py::gil_scoped_acquire acquire;
+            try {
+                const py::object set = control(t, py::array_t<double>(static_cast<py::ssize_t>(n_state), q.data()),
+                                               py::array_t<double>(static_cast<py::ssize_t>(n_state), v.data()));
+                if (!py::isinstance<py::dict>(set))
+                    throw py::type_error("control must return a dict {input: value}, not " +
+                                         std::string(py::str(py::type::of(set).attr("__name__"))));
+                for (const auto& [name, value] : py::reinterpret_borrow<py::dict>(set)) {
+                    const std::size_t i = input_index(k, py::cast<std::string>(name));
+                    const double x = py::cast<double>(value);
+                    if (!std::isfinite(x))
+                        throw py::value_error("control returned " + py::cast<std::string>(name) + " = " + std::to_string(x) +
+                                              " at t = " + std::to_string(t));
+                    P.set(i, x);
+                }
+            } catch (...) {
+                control_error = std::current_exception();
+                throw std::runtime_error("the control function failed");
+            }
+        };
+    }
     runtime::RunSummary r;
     std::vector<double> rows;
     {
         py::gil_scoped_release release;
-        const runtime::LagrangianSystem sys = runtime::kernel_system(P);
+        runtime::LagrangianSystem sys = runtime::kernel_live_system(&P);
+        if (!timed.empty())
+            sys = runtime::with_timed_inputs(std::move(sys), [&P, &timed](double t) {
+                for (const TimedInput& in : timed) P.set(in.index, in.at(t));
+            });
         r = runtime::run_one(sys, q0, v0, s, nullptr, &rows);
     }
+    if (control_error) std::rethrow_exception(control_error);
     const std::size_t width = 2 * n + 2;
     const auto count = static_cast<py::ssize_t>(rows.size() / width);
     py::dict d;

@@ -341,3 +341,86 @@ def test_hostile_inputs_raise_never_crash(compile_model, phynjo):
     assert dp.accelerations(np.zeros((0, 2)), np.zeros((0, 2))).shape == (0, 2)
     with pytest.raises(TypeError):
         phynjo.compile_string(b"model x")
+
+
+PUSHED = """model pushed
+coordinates x [m]
+parameters m = 2 [kg]
+input F = 0 [N]
+lagrangian 1/2*m*x'^2
+force x = F
+"""
+
+
+def test_inputs_sampled_in_time(phynjo):
+    """Catches: a table of input values not seen at each stage's time (held per step, read at
+    the step's start, or never), interpolated wrongly: a ramp F = c t pushes a free mass
+    exactly to x = c t^3 / (6 m) under RK4 (its stages integrate a ramp exactly), and a
+    constant table gives the bits of a constant parameter."""
+    m = phynjo.compile_string(PUSHED, "pushed.lag", cache_dir=CACHE)
+    c = 3.0
+    r = m.simulate(t_end=2, dt=0.01, integrator="rk4", inputs={"F": ([0, 10], [0, 10 * c])})
+    exact = c * r.t ** 3 / (6 * 2.0)
+    assert np.max(np.abs(r.q[:, 0] - exact)) < 1e-13
+    held = m.simulate(t_end=2, dt=0.01, integrator="rk4", inputs={"F": ([0, 1, 5], [1.5, 1.5, 1.5])})
+    const = m.simulate(t_end=2, dt=0.01, integrator="rk4", params={"F": 1.5})
+    assert g17(held.rows) == g17(const.rows)
+    # a step in F at t = 1 (two samples a hair apart): x'' = 0 before, F/m after
+    step = m.simulate(t_end=2, dt=0.001, integrator="dopri", inputs={"F": ([1, 1 + 1e-9], [0, 4])})
+    assert abs(step.q[-1, 0] - 0.5 * 2.0 * 1.0 ** 2) < 1e-6
+    cp = phynjo.compile(model_path("cart_pole_input.lag"), cache_dir=CACHE)
+    with pytest.raises(ValueError, match="not an input"):
+        cp.simulate(t_end=0.1, inputs={"M": ([0], [1])})
+    with pytest.raises(ValueError, match="increase"):
+        cp.simulate(t_end=0.1, inputs={"F": ([1, 0], [0, 1])})
+    with pytest.raises(ValueError, match="one length"):
+        cp.simulate(t_end=0.1, inputs={"F": ([0, 1], [0])})
+    with pytest.raises(ValueError, match="finite"):
+        cp.simulate(t_end=0.1, inputs={"F": ([0, 1], [0, float("nan")])})
+    with pytest.raises(phynjo.PhynjoError, match="inputs varying in time"):
+        r.html()
+
+
+def test_control_called_every_k_steps(phynjo):
+    """Catches: a controller called at the wrong steps or with a stale state, its values not
+    held (or not used) until the next call, its exceptions lost: the calls' times, a constant
+    controller's bits against the parameter, and a sampled PD law against the damped oscillator
+    it approximates."""
+    m = phynjo.compile_string(PUSHED, "pushed.lag", cache_dir=CACHE)
+    calls = []
+
+    def log(t, q, qd):
+        calls.append((t, q[0], qd[0]))
+        return {"F": 1.5}
+    r = m.simulate(t_end=0.1, dt=0.001, integrator="rk4", control=log, control_every=5, every=5)
+    assert [round(t / 0.005) for t, _, _ in calls] == list(range(20)) and calls[0][0] == 0.0
+    assert g17([x for _, x, _ in calls]) == g17(r.q[:-1, 0])  # the state at each call
+    const = m.simulate(t_end=0.1, dt=0.001, integrator="rk4", params={"F": 1.5}, every=5)
+    assert g17(r.rows) == g17(const.rows)
+    # F = -k x - c x' sampled every step of 1 ms: the damped oscillator m x'' + c x' + k x = 0
+    k, c, mass = 8.0, 0.4, 2.0
+    pd = m.simulate(t_end=5, dt=0.001, integrator="rk4", initial={"x": 1.0},
+                    control=lambda t, q, qd: {"F": -k * q[0] - c * qd[0]})
+    w0, z = math.sqrt(k / mass), c / (2 * math.sqrt(k * mass))
+    wd = w0 * math.sqrt(1 - z * z)
+    x = np.exp(-z * w0 * pd.t) * (np.cos(wd * pd.t) + z * w0 / wd * np.sin(wd * pd.t))
+    err = np.max(np.abs(pd.q[:, 0] - x))
+    assert 1e-5 < err < 5e-3  # a zero-order hold of 1 ms: close, not exact
+
+    class Stop(Exception):
+        pass
+
+    def fails(t, q, qd):
+        if t > 0.05:
+            raise Stop("at 0.05 s")
+        return {"F": 0.0}
+    with pytest.raises(Stop):
+        m.simulate(t_end=0.1, dt=0.001, control=fails)
+    with pytest.raises(ValueError, match="not an input"):
+        m.simulate(t_end=0.1, control=lambda t, q, qd: {"m": 1.0})
+    with pytest.raises(TypeError, match="dict"):
+        m.simulate(t_end=0.1, control=lambda t, q, qd: 1.0)
+    with pytest.raises(ValueError, match="control returned F"):
+        m.simulate(t_end=0.1, control=lambda t, q, qd: {"F": float("inf")})
+    with pytest.raises(TypeError):
+        m.simulate(t_end=0.1, control=3)

@@ -280,7 +280,8 @@ private:
 /// run_one takes FastRun's path: rk4, no constraints, generated code's fused kernels.
 bool fast_path(const LagrangianSystem& sys, const RunSettings& settings) {
     const IntegratorEntry* e = find_integrator(settings.integrator);
-    return e && e->fused_kernels && sys.n_constraints == 0 && sys.rk4_step_values && sys.accelerations_energy_guards;
+    return e && e->fused_kernels && !settings.control && sys.n_constraints == 0 && sys.rk4_step_values &&
+           sys.accelerations_energy_guards;
 }
 
 } // namespace
@@ -340,9 +341,11 @@ RunSummary run_one(const LagrangianSystem& sys, std::span<const std::pair<std::s
         is.rtol = settings.rtol;
         is.atol = settings.atol;
         const std::unique_ptr<RunIntegrator> run = entry->make(sys, w, is, with_events);
+        const long control_every = std::max(1L, settings.control_every);
         for (long k = 1; k <= total; ++k) {
             const double target = k <= steps ? static_cast<double>(k) * settings.dt : settings.t_end;
             const double h = k <= steps ? settings.dt : last;
+            if (settings.control && (k - 1) % control_every == 0) settings.control(w.time, w.field(kGQ), w.field(kGV));
             auto step_to = [&](double t, double dt) { run->step_to(w, t, dt); };
             if (!with_events) {
                 step_to(target, h);

@@ -38,6 +38,13 @@ struct RunSettings {
     std::optional<double> rtol, atol;
     /// Keep every event that fired (time, which, the state after it) in RunSummary::events.
     bool event_log = false;
+    /// A controller, sampled: called with t and the state at the start of every
+    /// `control_every`-th run step (t = 0 first), it sets inputs of the parameters the system
+    /// reads live (kernel_live_system), which hold until its next call (zero-order hold). What
+    /// it throws fails the run like any error. Runs with it take the integrators' general path
+    /// (no fused kernels).
+    std::function<void(double t, std::span<const double> q, std::span<const double> qdot)> control;
+    long control_every = 1;
     /// run_many (a sweep's runs) steps lane_width runs at a time in the lanes of SIMD registers
     /// where the model has lane kernels (the default; simulators: --no-lanes turns it off). A
     /// run's sines are then libmvec's, so its summary agrees with run_one's (one run's
