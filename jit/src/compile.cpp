@@ -1,12 +1,8 @@
 // Models compiled at run time (jit/compile.hpp): the key, the cache, the compiler.
 #include "phynjo/jit/compile.hpp"
 
-#include "phynjo/cas/pool.hpp"
 #include "phynjo/codegen/emit.hpp"
-#include "phynjo/codegen/equations.hpp"
-#include "phynjo/codegen/frontend.hpp"
 #include "phynjo/codegen/optimize.hpp"
-#include "phynjo/grammar/diagnostics.hpp"
 #include "phynjo/runtime/system/kernel.hpp"
 
 #include <dlfcn.h>
@@ -23,6 +19,8 @@
 #include <mutex>
 #include <random>
 #include <sstream>
+
+#include "derived_model.hpp"
 
 #ifndef PHYNJO_VERSION
 #define PHYNJO_VERSION "unknown"
@@ -277,17 +275,9 @@ CompiledModel compile_model(std::string_view text, const std::string& source_nam
     }
 
     // the model: parsed, derived, optimized, emitted (its own pool of expressions)
-    std::string kernel;
-    {
-        cas::Pool pool;
-        const cas::PoolScope scope(pool);
-        grammar::DiagnosticSink sink(source_name, text);
-        const auto model = codegen::read_model(text, source_name, sink);
-        std::optional<codegen::EquationsOfMotion> eom;
-        if (model) eom = codegen::derive(*model, sink);
-        if (!model || !eom) throw ModelError(sink.format_all());
-        kernel = codegen::emit_kernel(*model, codegen::optimize(*model, *eom), {}, PHYNJO_VERSION);
-    }
+    const std::string kernel = detail::with_derived_model(text, source_name, [](const auto& model, const auto& eom) {
+        return codegen::emit_kernel(model, codegen::optimize(model, eom), {}, PHYNJO_VERSION);
+    });
     const fs::path cpp = cache / "kernels" / (out.key + ".cpp"), log = cache / "kernels" / (out.key + ".log");
     const fs::path cpp_tmp = temporary_beside(cpp);
     if (!write_text(cpp_tmp, kernel)) throw std::runtime_error("cannot write " + cpp_tmp.string());

@@ -42,12 +42,7 @@ def test_a_results_html_plays_this_run_in_the_notebooks_iframe(compile_model, tm
         th1, th2 = r.q[-1]
         want = [math.sin(th1) + math.sin(th2), -math.cos(th1) - math.cos(th2), 0.0]
         assert all(abs(a - b) <= 1e-6 for a, b in zip(shown, want)), (shown, want)
-        start = driver.execute_script("return phynjo.time()")
-        driver.execute_script("phynjo.setSpeed(10); phynjo.play()")
-        t = driver.execute_async_script(
-            "const start = arguments[0], done = arguments[arguments.length - 1], until = performance.now() + 20000;"
-            "(function wait() { const t = phynjo.time();"
-            "  if (t > start || performance.now() > until) done(t); else setTimeout(wait, 50); })();", start)
+        start, t = browser.plays(driver)
         assert t > start
     finally:
         driver.quit()

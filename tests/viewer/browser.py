@@ -43,6 +43,20 @@ def load(driver, path):
         "(function wait() { if (window.phynjo && window.phynjo.ready) done(true); else setTimeout(wait, 50); })();")
 
 
+def plays(driver, speed=10, seconds=20):
+    """Plays the loaded page from where it is at `speed` until its time moves, or `seconds`
+    of wall time have passed (software WebGL on a loaded machine draws a big scene's first
+    frames slowly); then pauses. Returns (the time before, the time after)."""
+    start = driver.execute_script("return phynjo.time()")
+    driver.execute_script(f"phynjo.setSpeed({speed}); phynjo.play()")
+    t = driver.execute_async_script(
+        "const start = arguments[0], done = arguments[arguments.length - 1], until = performance.now() + arguments[1];"
+        "(function wait() { const t = phynjo.time();"
+        "  if (t > start || performance.now() > until) done(t); else setTimeout(wait, 50); })();", start, seconds * 1000)
+    driver.execute_script("phynjo.pause()")
+    return start, t
+
+
 def requested_urls(driver):
     """Every URL the page asked for since the last call (DevTools performance log)."""
     urls = []

@@ -31,13 +31,8 @@ def test_every_animation_linked_from_the_index_opens_offline_and_plays():
             # plays: the time moves past the first frame (waited for up to 20 s: software WebGL
             # on a loaded machine draws a big scene's first frames slowly; the rate is
             # test_viewer.py's)
-            start = driver.execute_script("return phynjo.frameTime(0)")
-            driver.execute_script("phynjo.seekFrame(0); phynjo.setSpeed(10); phynjo.play()")
-            t = driver.execute_async_script(
-                "const start = arguments[0], done = arguments[arguments.length - 1], until = performance.now() + 20000;"
-                "(function wait() { const t = phynjo.time();"
-                "  if (t > start || performance.now() > until) done(t); else setTimeout(wait, 50); })();", start)
-            driver.execute_script("phynjo.pause()")
+            driver.execute_script("phynjo.seekFrame(0)")
+            start, t = browser.plays(driver)
             assert t > start, (page, t, start)
             assert driver.execute_script("return phynjo.errors") == [], page
     finally:
