@@ -55,4 +55,9 @@ function(phynjo_add_model)
   # accelerations_energy_guards) give the bits of the functions they fuse, which a multiply-add
   # contracted in one of them and not in the other would break (docs/generated-code.md)
   target_compile_options(${PHYNJO_TARGET} PRIVATE $<$<CXX_COMPILER_ID:GNU,Clang>:-ffp-contract=off>)
+  # a build for this machine (PHYNJO_NATIVE) compiles its models as its kernels (jit/src/compile.cpp):
+  # a model run by phynjo-run or from Python and the same model built here give the same bits
+  if(PHYNJO_NATIVE)
+    target_compile_options(${PHYNJO_TARGET} PRIVATE -march=native)
+  endif()
 endfunction()

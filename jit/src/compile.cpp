@@ -40,6 +40,9 @@
 #ifndef PHYNJO_JIT_LIBMVEC
 #define PHYNJO_JIT_LIBMVEC 0
 #endif
+#ifndef PHYNJO_JIT_NATIVE
+#define PHYNJO_JIT_NATIVE 0
+#endif
 
 namespace fs = std::filesystem;
 
@@ -160,11 +163,28 @@ std::string build_identity() {
 
 /// The flags of every kernel (and of the precompiled header, which must match them): those of
 /// phynjo_add_model's model code (cmake/PhynjoAddModel.cmake) — every operation rounded once
-/// (-ffp-contract=off), so a kernel gives the bits of the CMake-built model.
+/// (-ffp-contract=off), so a kernel gives the bits of the CMake-built model. A build configured
+/// with PHYNJO_NATIVE compiles both for the machine (-march=native: four runs a register in a
+/// sweep's lanes where the CPU has AVX2, against two).
 std::vector<std::string> kernel_flags() {
     std::vector<std::string> f{"-std=c++20", "-O2", "-fPIC", "-fno-tree-slp-vectorize", "-ffp-contract=off", "-w"};
+    if (PHYNJO_JIT_NATIVE) f.push_back("-march=native");
     if (PHYNJO_JIT_LIBMVEC) f.push_back("-DPHYNJO_LIBMVEC=1");
     return f;
+}
+
+/// What -march=native means on this machine, for the cache keys of a native build: a cache
+/// folder shared by machines of other CPUs (a home on NFS) must not hand one the other's
+/// kernels. The CPU's model and feature flags as Linux reports them; empty in a portable build.
+std::string cpu_identity() {
+    if (!PHYNJO_JIT_NATIVE) return {};
+    std::ifstream in("/proc/cpuinfo");
+    std::string line, model, flags;
+    while (std::getline(in, line) && (model.empty() || flags.empty())) {
+        if (model.empty() && line.rfind("model name", 0) == 0) model = line;
+        if (flags.empty() && line.rfind("flags", 0) == 0) flags = line;
+    }
+    return model + "\n" + flags;
 }
 
 /// Runs `command` (a shell line), its output into `log`: the exit status.
@@ -260,7 +280,8 @@ CompiledModel compile_model(std::string_view text, const std::string& source_nam
     std::string flags;
     for (const std::string& f : kernel_flags()) flags += f + " ";
     Hash h;
-    h.add("phynjo kernel").add(std::to_string(PHYNJO_KERNEL_ABI_VERSION)).add(PHYNJO_VERSION).add(build_identity()).add(text).add(compiler).add(identity).add(flags);
+    const std::string cpu = cpu_identity();
+    h.add("phynjo kernel").add(std::to_string(PHYNJO_KERNEL_ABI_VERSION)).add(PHYNJO_VERSION).add(build_identity()).add(text).add(compiler).add(identity).add(flags).add(cpu);
     for (const char* header : {"system/generated_functions.hpp", "system/kernel_abi.h", "core/errors.hpp", "system/detail/derived.hpp",
                                "system/detail/kkt_solve.hpp", "system/detail/lanes.hpp", "system/detail/symmetric_solve.hpp"})
         h.add(read_text(include / "phynjo/runtime" / header));
@@ -284,7 +305,7 @@ CompiledModel compile_model(std::string_view text, const std::string& source_nam
     std::error_code ec;
     fs::rename(cpp_tmp, cpp, ec);
 
-    const fs::path pch = precompiled_header(cache, compiler, include, Hash().add(compiler).add(identity).add(flags).add(read_text(include / "phynjo/runtime/system/generated_functions.hpp")).hex(), o.verbose);
+    const fs::path pch = precompiled_header(cache, compiler, include, Hash().add(compiler).add(identity).add(flags).add(cpu).add(read_text(include / "phynjo/runtime/system/generated_functions.hpp")).hex(), o.verbose);
     const fs::path so_tmp = temporary_beside(so);
     std::string cmd = shell_quoted(compiler);
     for (const std::string& f : kernel_flags()) cmd += " " + f;
