@@ -263,7 +263,7 @@ class Model:
         d = self._k.simulate(float(t_end), float(dt), str(integrator), p, q0, v0, int(every), rtol, atol,
                              table, control, int(control_every))
         options = dict(t_end=float(t_end), dt=float(dt), integrator=str(integrator), params=p,
-                       initial=dict(initial or {}), rtol=rtol, atol=atol, varying=bool(table) or control is not None)
+                       initial=dict(initial or {}), rtol=rtol, atol=atol, inputs=table)
         return Result(self, d, options)
 
     def run(self, *args):
@@ -401,6 +401,7 @@ class Result:
         self.first_event = {e.name: (None if np.isnan(v) else v) for e, v in zip(model.events, d["first_event"])}
         self.events = [EventRecord(time, name, np.array(q), np.array(qd)) for time, name, q, qd in d["events"]]
         self._options = options
+        self._d = d
 
     def __repr__(self):
         why = f" ({self.reason})" if self.reason else ""
@@ -408,25 +409,32 @@ class Result:
                 f"{len(self.events)} events; max relative energy error {self.max_energy_error:.3g}>")
 
     def html(self, path=None, fps=None):
-        """The run as a 3-D animation, one HTML page that plays offline (docs/viewer.md): the
-        same run again through the simulator's --html. Written to `path` (returned), or returned
-        as text when `path` is None."""
+        """The run as a 3-D animation, one HTML page that plays offline (docs/viewer.md): this
+        run's own rows drawn (nothing is integrated again; a run with every=k has a frame at
+        most every k steps), the inputs at the values they had (inputs= tables, what control=
+        set), its events marked. For a run with every=1 the page is the simulator's --html page
+        of the same run, byte for byte. Written to `path` (returned), or returned as text when
+        `path` is None."""
         o = self._options
-        if o["varying"]:
-            raise PhynjoError("html(): the animation re-runs the model through the command line, which has no "
-                              "inputs varying in time; this run had inputs= or control=")
-        args = self.model._run_options(o["t_end"], o["dt"], o["integrator"], o["params"], o["initial"],
-                                       o["rtol"], o["atol"])
-        with tempfile.TemporaryDirectory(prefix="phynjo-html-") as tmp:
-            out = os.fspath(path) if path is not None else os.path.join(tmp, "run.html")
-            args += ["--html", out, "--output", os.path.join(tmp, "run.csv")]
-            if fps is not None:
-                args += ["--html-fps", repr(float(fps))]
-            self.model.run(*args)
-            if path is not None:
-                return out
-            with open(out, encoding="utf-8") as f:
-                return f.read()
+        title = f"{self.model.name} ({o['integrator']}, dt = {o['dt']:g} s)"
+        events = [(t, name) for t, name, _, _ in self.events]
+        page = self.model._k.html(o["params"], self.rows, o["inputs"], self._d["control_log"],
+                                  60.0 if fps is None else float(fps), title, events, self._stop_text())
+        if path is None:
+            return page
+        out = os.fspath(path)
+        with open(out, "w", encoding="utf-8") as f:
+            f.write(page)
+        return out
+
+    def _stop_text(self):
+        """Why the run ended early, in the simulator's words for its page ("" when it finished)."""
+        if self.status == "stopped" and self.events:
+            last = self.events[-1]
+            return f"stopped by the event {last.name} at t = {last.time:.10g} s"
+        if self.status == "failed":
+            return f"the simulation failed at t = {self.t_end:.10g} s: {self.reason}"
+        return ""
 
     def _repr_html_(self):
         """Jupyter: the animation in an iframe (its page is self-contained)."""

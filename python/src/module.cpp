@@ -12,6 +12,7 @@
 #include "phynjo/runtime/simulate/runs.hpp"
 #include "phynjo/runtime/system/kernel.hpp"
 #include "phynjo/runtime/system/timed_inputs.hpp"
+#include "phynjo/runtime/view/recorder.hpp"
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -247,6 +248,9 @@ py::dict simulate(const Kernel& k, double t_end, double dt, const std::string& i
     // what the control function raised (or its result's misuse), raised again here; run_one
     // sees a plain error (no Python object leaves the interpreter's lock)
     std::exception_ptr control_error;
+    // what the controller set, when (t, input index, value): Result.html shows the run's shapes
+    // with the inputs they had
+    std::vector<std::tuple<double, std::size_t, double>> control_log;
     const std::size_t n_state = k.table().dof;
     if (!control.is_none()) {
         s.control_every = control_every;
@@ -265,6 +269,7 @@ py::dict simulate(const Kernel& k, double t_end, double dt, const std::string& i
                         throw py::value_error("control returned " + py::cast<std::string>(name) + " = " + std::to_string(x) +
                                               " at t = " + std::to_string(t));
                     P.set(i, x);
+                    control_log.emplace_back(t, i, x);
                 }
             } catch (...) {
                 control_error = std::current_exception();
@@ -299,7 +304,53 @@ py::dict simulate(const Kernel& k, double t_end, double dt, const std::string& i
     for (const runtime::EventRecord& e : r.events)
         events.append(py::make_tuple(e.time, std::string(k.table().event_names[e.event]), e.q, e.qdot));
     d["events"] = events;
+    d["control_log"] = control_log;
     return d;
+}
+
+/// The 3-D page (runtime/view/recorder.hpp) of a run's rows (t, q…, q'…, E as simulate gives
+/// them): the model's shapes at each row, the inputs at their values of that time (`inputs` as
+/// simulate's, `control_log` what its controller set), the events marked, the stop reason.
+/// The rows are the run's own states: nothing is integrated again.
+std::string html_of_rows(const Kernel& k, const py::dict& params, const py::array_t<double, py::array::c_style | py::array::forcecast>& rows,
+                         const std::vector<std::tuple<std::string, std::vector<double>, std::vector<double>>>& inputs,
+                         const std::vector<std::tuple<double, std::size_t, double>>& control_log, double fps,
+                         const std::string& title, const std::vector<std::pair<double, std::string>>& events,
+                         const std::string& stop_reason) {
+    const std::size_t n = k.table().dof, width = 2 * n + 2;
+    if (rows.ndim() != 2 || static_cast<std::size_t>(rows.shape(1)) != width || rows.shape(0) < 1)
+        throw py::value_error("rows: expected shape (rows, " + std::to_string(width) + ") with at least one row");
+    if (!(std::isfinite(fps) && fps > 0)) throw py::value_error("fps must be finite and > 0");
+    runtime::check_three_js();
+    std::vector<TimedInput> timed;
+    for (const auto& [name, times, values] : inputs) timed.push_back(TimedInput{input_index(k, name), times, values});
+    KernelParameters P = parameters_of(k, params);
+    runtime::RecorderOptions options;
+    options.fps = fps;
+    options.title = title;
+    runtime::Recorder recorder(options);
+    {
+        py::gil_scoped_release release;
+        const runtime::LagrangianSystem sys = runtime::kernel_live_system(&P);
+        runtime::World w = runtime::make_lagrangian_world(sys);
+        recorder.add_model(sys);
+        const double* r = rows.data();
+        std::size_t next_control = 0;
+        for (py::ssize_t i = 0; i < rows.shape(0); ++i, r += width) {
+            const double t = r[0];
+            for (const TimedInput& in : timed) P.set(in.index, in.at(t));
+            for (; next_control < control_log.size() && std::get<0>(control_log[next_control]) <= t; ++next_control)
+                P.set(std::get<1>(control_log[next_control]), std::get<2>(control_log[next_control]));
+            w.time = t;
+            std::copy_n(r + 1, n, w.field(runtime::kGQ).begin());
+            std::copy_n(r + 1 + n, n, w.field(runtime::kGV).begin());
+            recorder.capture(w);
+        }
+        recorder.capture_last(w); // as the simulator's --html: the end kept whether or not a frame was due
+        for (const auto& [t, name] : events) recorder.mark_event(t, name);
+        recorder.set_stop_reason(stop_reason);
+    }
+    return recorder.html();
 }
 
 /// The simulator's command line on this kernel (phynjo-run's main without the compile):
@@ -351,6 +402,8 @@ PYBIND11_MODULE(_phynjo, m) {
         } catch (const runtime::NonFiniteResult& e) {
             raise_as("NonFiniteResult", e.what());
         } catch (const runtime::Error& e) {
+            raise_as("PhynjoError", e.what());
+        } catch (const runtime::ViewerError& e) {
             raise_as("PhynjoError", e.what());
         }
     });
@@ -422,6 +475,7 @@ PYBIND11_MODULE(_phynjo, m) {
                                   numpy_of(std::move(v), {static_cast<py::ssize_t>(n)}));
         })
         .def("simulate", &simulate)
+        .def("html", &html_of_rows)
         .def("run", &run);
 
     m.def("compile_file", [](const std::string& path, const std::string& cache_dir, bool verbose) {
