@@ -9,6 +9,7 @@
 #include <fcntl.h>
 #include <memory>
 #include <stdexcept>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -295,6 +296,18 @@ std::optional<ArchiveIndexEntry> snapshot_before(const ArchiveContents& contents
 
 // ---- writing ------------------------------------------------------------------------------
 
+namespace {
+/// One writer at a time: a second process continuing the same archive (a run resumed while
+/// the first still runs) would interleave its records with the first's. The lock goes with
+/// the process, however it ends.
+void lock(int fd, const std::string& path) {
+    if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
+        if (errno == EWOULDBLOCK) throw ArchiveError(path + " is being written by another process (a run still going)");
+        throw ArchiveError(system_error("cannot lock the archive " + path));
+    }
+}
+} // namespace
+
 ArchiveWriter::ArchiveWriter(std::string path, int fd, std::uint64_t size, bool sync)
     : path_(std::move(path)), fd_(fd), size_(size), sync_(sync) {}
 
@@ -323,6 +336,7 @@ ArchiveWriter ArchiveWriter::create(const std::string& path, const ArchiveHeader
         throw ArchiveError(system_error("cannot create the archive " + path));
     }
     ArchiveWriter w(path, fd, 0, sync);
+    lock(fd, path);
     w.append(kHeaderKind, header_payload(header));
     if (sync) sync_folder(path);
     return w;
@@ -334,6 +348,7 @@ ArchiveWriter ArchiveWriter::resume(const std::string& path, const ArchiveConten
         throw ArchiveError(path + " is the archive of another run: " + d);
     Fd fd(::open(path.c_str(), O_WRONLY | O_APPEND | O_CLOEXEC));
     if (fd.fd < 0) throw ArchiveError(system_error("cannot open the archive " + path + " to continue it"));
+    lock(fd.fd, path);
     const std::uint64_t size = file_size(fd.fd, path);
     if (size < contents.valid_end) throw ArchiveError(path + " is shorter than when it was read");
     if (size > contents.valid_end) { // the record a killed run was writing: cut off, then appended after
@@ -422,6 +437,24 @@ std::string ArchiveReader::str() {
 void ArchiveReader::finish() const {
     if (at_ != bytes_.size())
         throw ArchiveError(std::string(what_) + ": " + std::to_string(bytes_.size() - at_) + " bytes left unread");
+}
+
+// ---- worlds -------------------------------------------------------------------------------
+
+void save_world(ArchiveBytes& out, const World& w) {
+    out.u64(w.field_count()).u64(w.size()).f64(w.time).u64(w.tick);
+    for (FieldId f = 0; f < w.field_count(); ++f) out.f64s(w.field(f).data(), w.size());
+}
+
+void restore_world(ArchiveReader& in, World& w) {
+    const std::uint64_t fields = in.u64(), components = in.u64();
+    if (fields != w.field_count() || components != w.size())
+        throw ArchiveError("the snapshot's world has " + std::to_string(fields) + " fields of " + std::to_string(components) +
+                           " components; this run's has " + std::to_string(w.field_count()) + " of " +
+                           std::to_string(w.size()));
+    w.time = in.f64();
+    w.tick = in.u64();
+    for (FieldId f = 0; f < w.field_count(); ++f) in.f64s(w.field(f).data(), w.size());
 }
 
 } // namespace phynjo::runtime

@@ -278,6 +278,55 @@ EventRule model_events_rule(std::string name, const LagrangianSystem& system, st
                      }};
 }
 
+void EventMonitor::save(ArchiveBytes& out) const {
+    out.u64(n_).u64(ne_).u64(started_ ? 1 : 0).u64(stopped_ ? 1 : 0).u64(resting_count_);
+    for (std::size_t k = 0; k < ne_; ++k) {
+        out.u64(armed_[k]).u64(resting_[k]).f64(arm_time_[k]).u64(recent_[k].size());
+        out.f64s(recent_[k].data(), recent_[k].size());
+    }
+    for (std::size_t i = 0; i < n_; ++i) out.u64(held_by_[i]).f64(held_q_[i]);
+    out.u64(log_.size());
+    for (const EventRecord& r : log_) {
+        out.f64(r.time).u64(r.event);
+        out.f64s(r.q.data(), n_).f64s(r.qdot.data(), n_);
+    }
+}
+
+void EventMonitor::restore(ArchiveReader& in) {
+    if (in.u64() != n_ || in.u64() != ne_)
+        throw ArchiveError("the event monitor's snapshot is of a model with other coordinates or events");
+    started_ = in.u64() != 0;
+    stopped_ = in.u64() != 0;
+    resting_count_ = in.u64();
+    for (std::size_t k = 0; k < ne_; ++k) {
+        armed_[k] = in.u64() != 0;
+        resting_[k] = in.u64() != 0;
+        arm_time_[k] = in.f64();
+        const std::uint64_t m = in.u64();
+        if (m > opt_.zeno_run) throw ArchiveError("the event monitor's snapshot keeps more firing times than zeno_run");
+        recent_[k].resize(m);
+        in.f64s(recent_[k].data(), m);
+    }
+    for (std::size_t i = 0; i < n_; ++i) {
+        held_by_[i] = in.u64();
+        if (held_by_[i] > ne_) throw ArchiveError("the event monitor's snapshot holds a coordinate by no event");
+        held_q_[i] = in.f64();
+    }
+    const std::uint64_t m = in.u64();
+    log_.clear();
+    for (std::uint64_t j = 0; j < m; ++j) {
+        EventRecord r;
+        r.time = in.f64();
+        r.event = in.u64();
+        if (r.event >= ne_) throw ArchiveError("the event monitor's snapshot logs an event the model does not have");
+        r.q.resize(n_);
+        r.qdot.resize(n_);
+        in.f64s(r.q.data(), n_);
+        in.f64s(r.qdot.data(), n_);
+        log_.push_back(std::move(r));
+    }
+}
+
 void EventMonitor::check_zeno(std::size_t k, double t) {
     const std::string name = "event '" + sys_.event_names[k] + "'";
     if (events_this_run_step_ > opt_.max_events_per_step)

@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdio>
+#include <optional>
 #include <stdexcept>
 
 namespace phynjo::runtime {
@@ -54,6 +55,11 @@ public:
         while (!watched_ && w.time < target - 1e-12 * dt_);
     }
     [[nodiscard]] const EventMonitor::Extension* dense() const override { return &dense_; }
+    void save(ArchiveBytes& out) const override { out.f64(h_).f64(dp_.next_dt()); }
+    void restore(ArchiveReader& in) override {
+        h_ = in.f64();
+        dp_.set_next_dt(in.f64());
+    }
 
 private:
     static DormandPrince45::Options options(const IntegratorSettings& settings) {
@@ -85,19 +91,27 @@ template <typename Solver>
 class MultistepRun final : public RunIntegrator {
 public:
     MultistepRun(const char* name, const LagrangianSystem& system, const IntegratorSettings& settings, bool watched)
-        : name_(name), solver_(system, solver_options<Solver>(settings)), watched_(watched),
-          dense_([this](double t, std::span<double> q, std::span<double> v) { solver_.dense(t, q, v); }) {}
+        : name_(name), system_(system), options_(solver_options<Solver>(settings)), watched_(watched),
+          dense_([this](double t, std::span<double> q, std::span<double> v) { solver_->dense(t, q, v); }) {
+        solver_.emplace(system_, options_);
+    }
     void step_to(World& w, double target, double) override {
         if (watched_) {
-            solver_.step(w, target);
+            solver_->step(w, target);
         } else {
-            solver_.advance(w, target);
+            solver_->advance(w, target);
             w.time = target;
         }
     }
+    bool restart_at_snapshot() override {
+        add(before_, solver_->stats());
+        solver_.emplace(system_, options_);
+        return true;
+    }
     [[nodiscard]] const EventMonitor::Extension* dense() const override { return &dense_; }
     [[nodiscard]] std::string statistics() const override {
-        const auto st = solver_.stats();
+        auto st = before_;
+        add(st, solver_->stats());
         char line[256];
         std::snprintf(line, sizeof line,
                       "%s: %ld steps, %ld Jacobians, %ld Newton iterations, %ld Newton failures, %ld error-test failures",
@@ -107,8 +121,18 @@ public:
     }
 
 private:
+    static void add(typename Solver::Stats& to, const typename Solver::Stats& s) {
+        to.steps += s.steps;
+        to.jacobian_evaluations += s.jacobian_evaluations;
+        to.newton_iterations += s.newton_iterations;
+        to.newton_failures += s.newton_failures;
+        to.error_test_failures += s.error_test_failures;
+    }
     const char* name_;
-    Solver solver_;
+    LagrangianSystem system_;
+    typename Solver::Options options_;
+    std::optional<Solver> solver_;
+    typename Solver::Stats before_{}; ///< the counts of the solvers before a restart
     bool watched_;
     EventMonitor::Extension dense_;
 };

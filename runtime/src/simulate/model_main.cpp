@@ -1,6 +1,7 @@
 // The command-line driver every generated simulator links (model_main.hpp).
 #include "phynjo/runtime/simulate/model_main.hpp"
 
+#include "phynjo/runtime/core/archive.hpp"
 #include "phynjo/runtime/simulate/ensemble.hpp"
 #include "phynjo/runtime/simulate/events.hpp"
 #include "phynjo/runtime/simulate/integrator_registry.hpp"
@@ -9,11 +10,15 @@
 #include "strict_numbers.hpp"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <exception>
 #include <optional>
 #include <string>
+#include <sys/stat.h>
+#include <unistd.h>
 
 namespace phynjo::runtime {
 
@@ -69,7 +74,9 @@ void help(const char* prog, const ModelCommandLine& model, const LagrangianSyste
                 "          [--energy-tolerance TOL [--fail-on-drift]] [--project-initial]\n"
                 "          [--projection-tolerance TOL] [--rtol R] [--atol A]\n"
                 "          [--events FILE] [--rest-speed V] [--max-events-per-step N] [--shapes FILE]\n"
-                "          [--html FILE [--html-fps F]]\n"
+                "          [--html FILE [--html-fps F]] [--archive FILE [--archive-every K]]\n"
+                "       %s [the options of the run] --resume FILE\n"
+                "       %s [the options of the run] --archive FILE --at T [--output FILE]\n"
                 "       %s --grid NAME=LO:HI:N... [--uniform NAME=LO:HI... --samples K [--seed S]]\n"
                 "          --summary FILE [--trajectories DIR [--every K]] [--threads N] [--no-lanes] [the options of one run]\n"
                 "Simulates the model %.*s from its initial state and writes CSV: t, q..., q'..., E\n"
@@ -105,6 +112,20 @@ void help(const char* prog, const ModelCommandLine& model, const LagrangianSyste
                 "                         (the shapes, or the coordinates as beads; plots of q, q', E - E(0)\n"
                 "                         and the constraint residuals; the events); docs/viewer.md\n"
                 "  --html-fps F           frames per simulated second in the page (default 60)\n"
+                "  --archive FILE         keep a snapshot of the run every K steps in FILE (a new file): the\n"
+                "                         state and all the integrator, the events and the output carry to\n"
+                "                         the next step, each record checksummed and on the disk before the\n"
+                "                         run goes on (docs/archive.md). cvode, ida and bdf restart their\n"
+                "                         history at each snapshot (the run with --archive is that run)\n"
+                "  --archive-every K      a snapshot every K steps (default: about 100 in the run)\n"
+                "  --resume FILE          continue the run archived in FILE (killed, or finished and run\n"
+                "                         further with a later --t-end) from its last snapshot, with the\n"
+                "                         same options: --output and --shapes are cut to that snapshot and\n"
+                "                         continued, byte for byte what the run without a stop writes; an\n"
+                "                         archive of another model, parameters or options is refused\n"
+                "  --at T                 with --archive FILE of a run: the state at time T, s, as one CSV\n"
+                "                         row (the last row a run to --t-end T writes), from the snapshot\n"
+                "                         before T integrated forward: bit for bit the run's state\n"
                 "  --rest-speed V         the Zeno remedy: a velocity an event resets to below V becomes 0\n"
                 "                         and is held (a ball comes to rest) until a free step would\n"
                 "                         leave the event's guard on its armed side (default: off)\n"
@@ -140,7 +161,7 @@ void help(const char* prog, const ModelCommandLine& model, const LagrangianSyste
                 "Exit status: 0 done (also when a stop event ended the run), 1 the run failed (the message\n"
                 "says why and when), 2 usage error,\n"
                 "3 energy drift beyond the tolerance (with --fail-on-drift).\n",
-                prog, names.c_str(), prog, static_cast<int>(model.model_name.size()), model.model_name.data(),
+                prog, names.c_str(), prog, prog, prog, static_cast<int>(model.model_name.size()), model.model_name.data(),
                 std::string(integrator_registry().front().name).c_str(), lines.c_str(), tolerances.c_str(), params.empty() ? "(none)" : params.c_str(),
                 coords.c_str(), events.empty() ? "(none)" : events.c_str());
 }
@@ -161,9 +182,28 @@ public:
         for (const auto& n : sys.coordinate_names) std::fprintf(f, ",%s'", n.c_str());
     }
     /// Opens both files (the output "": standard output; the shapes "": none) and writes their
-    /// headers; false (after a message naming the file) when one cannot be written.
-    bool open(const std::string& output, const std::string& shapes, const char* program, const World& w) {
+    /// headers; false (after a message naming the file) when one cannot be written. With
+    /// `resumed` (a snapshot's "output" section, save()), the files are instead cut to the
+    /// length they had at the snapshot and continued.
+    bool open(const std::string& output, const std::string& shapes, const char* program, const World& w,
+              const std::string* resumed = nullptr) {
         const LagrangianSystem& sys = sys_;
+        if (resumed) {
+            ArchiveReader in(*resumed, "the snapshot's output section");
+            const std::uint64_t out_at = in.u64(), shapes_at = in.u64();
+            e0_ = in.f64();
+            drift_ = in.f64();
+            in.finish();
+            if ((out_at == kNoFile) != output.empty() || (shapes_at == kNoFile) != shapes.empty())
+                throw ArchiveError("the archived run wrote its rows elsewhere (to standard output or not, --shapes or not)");
+            out_ = output.empty() ? stdout : reopen(output, out_at, program);
+            if (!shapes.empty()) shapes_file_ = reopen(shapes, shapes_at, program);
+            if (!out_ || (!shapes.empty() && !shapes_file_)) return false;
+            if (!shapes.empty())
+                for (std::size_t k = 0; k < sys.n_shapes; ++k)
+                    shape_points_.resize(shape_points_.size() + (sys.shape_is_sphere[k] ? 3 : 6));
+            return true;
+        }
         out_ = output.empty() ? stdout : std::fopen(output.c_str(), "w");
         if (!out_) {
             std::fprintf(stderr, "%s: cannot write %s\n", program, output.c_str());
@@ -214,6 +254,14 @@ public:
             std::fprintf(shapes_file_, "\n");
         }
     }
+    /// For a snapshot: the files flushed (with `sync`, on the disk), then their lengths, E(0)
+    /// and the drift so far — what open(…, resumed) continues from.
+    [[nodiscard]] std::string save(bool sync) const {
+        ArchiveBytes out;
+        out.u64(length(out_, out_ != stdout, sync)).u64(length(shapes_file_, true, sync));
+        out.f64(e0_).f64(drift_);
+        return out.take();
+    }
     /// Closes the files (standard output stays open).
     void close() {
         if (out_ && out_ != stdout) std::fclose(out_);
@@ -224,6 +272,44 @@ public:
     [[nodiscard]] double drift() const { return drift_; }
 
 private:
+    static constexpr std::uint64_t kNoFile = ~std::uint64_t{0};
+    /// A file's length after its rows were flushed (kNoFile for standard output, or none);
+    /// ArchiveError when they cannot be written.
+    static std::uint64_t length(std::FILE* f, bool file, bool sync) {
+        if (!f) return kNoFile;
+        if (std::fflush(f) != 0) throw ArchiveError(std::string("cannot write the output: ") + std::strerror(errno));
+        if (!file) return kNoFile;
+        if (sync && ::fdatasync(::fileno(f)) != 0 && errno != EINVAL)
+            throw ArchiveError(std::string("cannot sync the output: ") + std::strerror(errno));
+        const long at = std::ftell(f);
+        if (at < 0) throw ArchiveError(std::string("cannot tell the output's length: ") + std::strerror(errno));
+        return static_cast<std::uint64_t>(at);
+    }
+    /// `path` cut to `length` bytes and opened for appending (null after a message when it
+    /// cannot be, or is shorter: not the archived run's file).
+    static std::FILE* reopen(const std::string& path, std::uint64_t length, const char* program) {
+        std::FILE* f = std::fopen(path.c_str(), "r+");
+        if (!f) {
+            std::fprintf(stderr, "%s: --resume: cannot continue %s: %s\n", program, path.c_str(), std::strerror(errno));
+            return nullptr;
+        }
+        struct stat st {};
+        if (::fstat(::fileno(f), &st) != 0 || static_cast<std::uint64_t>(st.st_size) < length) {
+            std::fprintf(stderr,
+                         "%s: --resume: %s has %lld bytes, fewer than the %llu the archived run had written there: "
+                         "not that run's file\n",
+                         program, path.c_str(), static_cast<long long>(st.st_size), static_cast<unsigned long long>(length));
+            std::fclose(f);
+            return nullptr;
+        }
+        if (::ftruncate(::fileno(f), static_cast<off_t>(length)) != 0 || std::fseek(f, 0, SEEK_END) != 0) {
+            std::fprintf(stderr, "%s: --resume: cannot continue %s: %s\n", program, path.c_str(), std::strerror(errno));
+            std::fclose(f);
+            return nullptr;
+        }
+        return f;
+    }
+
     const LagrangianSystem& sys_;
     std::FILE* out_ = nullptr;
     std::FILE* shapes_file_ = nullptr;
@@ -249,7 +335,12 @@ struct Simulator {
     EventOptions event_options;
     std::optional<double> rtol, atol;
     long every = 0;
-    std::vector<std::pair<std::string, double>> inits;
+    std::vector<std::pair<std::string, double>> inits, params;
+    // the archive (docs/archive.md): written (--archive), continued (--resume), read (--at)
+    std::string archive;
+    bool resume = false;
+    long archive_every = 0;
+    std::optional<double> at;
     // a sweep (sweep.hpp): its options, and the others that decide its results
     SweepCommand sweep;
     bool sweeping = false, single_run_output = false;
@@ -268,6 +359,9 @@ struct Simulator {
     /// The --init values set in `w` and, for a model with constraints, the initial state
     /// checked (first projected with --project-initial): an exit status when that fails.
     std::optional<int> set_initial_state(const LagrangianSystem& sys, World& w) const;
+    /// What identifies this run in an archive: the model (its name, and a fingerprint of its
+    /// functions at `w0`, the initial state), every option that decides the states or the rows.
+    [[nodiscard]] ArchiveHeader archive_header(const LagrangianSystem& sys, const World& w0) const;
     /// --events: the event log as CSV.
     int write_events(const LagrangianSystem& sys, const EventMonitor& monitor) const;
 };
@@ -353,6 +447,20 @@ bool Simulator::parse() {
             if (!k || *k <= 0) throw UsageError{"--max-events-per-step: '" + v + "' is not a positive whole number"};
             event_options.max_events_per_step = static_cast<std::size_t>(*k);
         }
+        else if (a == "--archive" || a == "--resume") {
+            if (!archive.empty()) throw UsageError{"--archive and --resume name one archive, once"};
+            archive = value(a.c_str());
+            if (archive.empty()) throw UsageError{a + " needs a file name"};
+            resume = a == "--resume";
+        } else if (a == "--archive-every") {
+            const std::string v = value("--archive-every");
+            const auto k = whole_number(v);
+            if (!k || *k <= 0) throw UsageError{"--archive-every: '" + v + "' is not a positive whole number"};
+            archive_every = *k;
+        } else if (a == "--at") {
+            at = num("--at");
+            if (!(*at >= 0)) throw UsageError{"--at must not be negative"};
+        }
         else if (a == "--project-initial") project_initial = true;
         else if (a == "--projection-tolerance") {
             projection.tolerance = num("--projection-tolerance");
@@ -367,6 +475,7 @@ bool Simulator::parse() {
                     found = true;
                 }
             if (!found) throw UsageError{"unknown parameter '" + name + "' (try --help)"};
+            params.emplace_back(name, v);
         } else if (a == "--init") {
             std::string list = value("--init");
             std::size_t start = 0;
@@ -405,9 +514,21 @@ void Simulator::check() {
             throw UsageError{"--output, --events, --shapes, --html, --energy-tolerance, --project-initial, --rtol and "
                              "--atol are for one run; a sweep writes --summary (and --trajectories)"};
         if (every > 0 && sweep.trajectories.empty()) throw UsageError{"--every goes with one run's --output or a sweep's --trajectories"};
+        if (!archive.empty() || at || archive_every)
+            throw UsageError{"--archive, --resume, --archive-every and --at are for one run, not a sweep"};
     } else if (processes && processes->size() > 1)
         throw UsageError{"only a sweep (--grid, --uniform) runs on several MPI ranks; run one simulation without mpirun"};
     if (!html_output.empty() && !can_write(html_output)) throw UsageError{"--html: cannot write " + html_output};
+    if (archive_every && archive.empty()) throw UsageError{"--archive-every goes with --archive FILE or --resume FILE"};
+    if (at) {
+        if (archive.empty() || resume) throw UsageError{"--at T reads the run's archive: --archive FILE --at T"};
+        if (!events_output.empty() || !shapes_output.empty() || !html_output.empty() || archive_every)
+            throw UsageError{"--at writes the state at T (to --output): not with --events, --shapes, --html or --archive-every"};
+    } else if (resume && !html_output.empty()) {
+        throw UsageError{"--html draws a whole run: not with --resume (the page of a resumed run would miss its first part)"};
+    } else if (!archive.empty() && !resume && ::access(archive.c_str(), F_OK) == 0) {
+        throw UsageError{"--archive: " + archive + " exists (continue its run with --resume " + archive + ")"};
+    }
 }
 
 int Simulator::sweep_runs() {
@@ -481,6 +602,62 @@ std::optional<int> Simulator::set_initial_state(const LagrangianSystem& sys, Wor
     return std::nullopt;
 }
 
+ArchiveHeader Simulator::archive_header(const LagrangianSystem& sys, const World& w0) const {
+    // the model's functions at two states, bit for bit (another model, another build of it
+    // with other defaults, other parameters: another fingerprint)
+    std::uint64_t h = 1469598103934665603ULL;
+    auto mix = [&](std::string_view bytes) {
+        for (unsigned char c : bytes) h = (h ^ c) * 1099511628211ULL;
+    };
+    auto mix_values = [&](std::span<const double> x) {
+        for (double v : x) mix(std::string_view(reinterpret_cast<const char*>(&v), sizeof v));
+    };
+    for (const auto* names : {&sys.coordinate_names, &sys.constraint_names, &sys.event_names})
+        for (const std::string& n : *names) mix(n + "\n");
+    std::vector<double> q(w0.field(kGQ).begin(), w0.field(kGQ).end()), v(w0.field(kGV).begin(), w0.field(kGV).end()),
+        a(sys.dof), lambda(sys.n_constraints);
+    for (int probe = 0; probe < 2; ++probe) {
+        const double t = probe ? 0.375 : 0.0;
+        if (probe)
+            for (std::size_t i = 0; i < sys.dof; ++i) q[i] += 0.125 * static_cast<double>(i + 1), v[i] -= 0.0625;
+        mix_values(q);
+        mix_values(v);
+        try {
+            const double e = sys.energy(t, q, v);
+            mix_values(std::span<const double>(&e, 1));
+            if (sys.n_constraints > 0) sys.accelerations_and_multipliers(t, q, v, a, lambda);
+            else sys.accelerations(t, q, v, a);
+            mix_values(a);
+            mix_values(lambda);
+        } catch (const std::exception& e) {
+            mix(e.what());
+        }
+    }
+    char fingerprint[20];
+    std::snprintf(fingerprint, sizeof fingerprint, "%016llx", static_cast<unsigned long long>(h));
+    auto text = [](double x) {
+        char buf[32];
+        std::snprintf(buf, sizeof buf, "%.17g", x);
+        return std::string(buf);
+    };
+    ArchiveHeader header;
+    // (the parameters before the fingerprint they change: a difference is named by them)
+    header.add("program", "phynjo simulator").add("model", std::string(model.model_name));
+    for (const auto& [name, value] : params) header.add("param." + name, text(value));
+    for (const auto& [name, value] : inits) header.add("init." + name, text(value));
+    header.add("model.fingerprint", fingerprint);
+    header.add("integrator", integrator).add("dt", text(dt));
+    if (rtol) header.add("rtol", text(*rtol));
+    if (atol) header.add("atol", text(*atol));
+    header.add("project-initial", project_initial ? "yes" : "no").add("projection-tolerance", text(projection.tolerance));
+    header.add("rest-speed", text(event_options.rest_speed))
+        .add("max-events-per-step", std::to_string(event_options.max_events_per_step));
+    header.add("every", std::to_string(every)).add("archive-every", std::to_string(archive_every));
+    header.add("output", output.empty() ? "(standard output)" : output);
+    header.add("shapes", shapes_output.empty() ? "(none)" : shapes_output);
+    return header;
+}
+
 int Simulator::write_events(const LagrangianSystem& sys, const EventMonitor& monitor) const {
     std::FILE* ev = std::fopen(events_output.c_str(), "w");
     if (!ev) {
@@ -509,15 +686,76 @@ int Simulator::run() {
     }
     World w = make_lagrangian_world(sys);
     if (const auto failed = set_initial_state(sys, w)) return *failed;
+    // --at T: the state a run to T ends in
+    if (at) t_end = *at;
     // Full steps, then a shortened last one: the run ends exactly at t_end (a ratio within
     // 1e-9 of a whole number counts as that number: 20 / 0.001 is 20000, not 20000.000000000004).
     const long steps = detail::whole_steps(t_end, dt);
     const double last = t_end - static_cast<double>(steps) * dt;
     const bool short_step = last > 1e-9 * dt;
+
+    // The archive (docs/archive.md): read when continued (--resume) or questioned (--at);
+    // its rows and snapshots keep their spacing (--every, --archive-every) unless given again.
+    std::optional<ArchiveContents> contents;
+    std::optional<ArchiveSnapshot> from; // the snapshot this run starts from
+    std::optional<ArchiveWriter> writer;
+    try {
+        if (resume || at) {
+            contents = read_archive(archive);
+            auto adopt = [&](const char* key, long& value) {
+                if (value > 0) return;
+                if (const auto v = contents->header.get(key)) value = whole_number(*v).value_or(0);
+            };
+            adopt("every", every);
+            adopt("archive-every", archive_every);
+        }
+    } catch (const ArchiveError& e) {
+        std::fprintf(stderr, "%s: %s\n", argv[0], e.what());
+        return 1;
+    }
     if (every <= 0) every = std::max(1L, steps / 5000);
+    if (archive_every <= 0) archive_every = std::max(1L, steps / 100);
+    try {
+        if (!archive.empty()) {
+            ArchiveHeader header = archive_header(sys, w);
+            if (at) // --at writes its row elsewhere: the run's files are the archive's
+                for (auto& [key, value] : header.fields)
+                    if (key == "output" || key == "shapes") value = std::string(contents->header.get(key).value_or(""));
+            if (contents) {
+                if (const std::string d = contents->header.difference(header); !d.empty())
+                    throw ArchiveError(archive + ": the archive is of another run: " + d);
+                // the latest snapshot this run reaches (--at: the one at or before T's last whole step)
+                for (auto it = contents->snapshots.rbegin(); it != contents->snapshots.rend(); ++it)
+                    if (static_cast<long>(it->step) <= steps) {
+                        from = read_snapshot(archive, it->offset);
+                        break;
+                    }
+                if (resume) writer.emplace(ArchiveWriter::resume(archive, *contents, header));
+            } else {
+                writer.emplace(ArchiveWriter::create(archive, header));
+            }
+        }
+    } catch (const ArchiveError& e) {
+        std::fprintf(stderr, "%s: %s\n", argv[0], e.what());
+        return 1;
+    }
 
     RunOutput csv(sys);
-    if (!csv.open(output, shapes_output, argv[0], w)) return 1;
+    try {
+        if (from) {
+            ArchiveReader world(from->section("world"), "the snapshot's world");
+            restore_world(world, w);
+            world.finish();
+        }
+        if (!csv.open(output, shapes_output, argv[0], w, from && !at ? &from->section("output") : nullptr)) return 1;
+        if (resume)
+            std::fprintf(stderr, from ? "%s: --resume: continuing from the snapshot at step %llu, t = %.17g s\n"
+                                      : "%s: --resume: no snapshot yet in the archive; the run starts again\n",
+                         argv[0], from ? static_cast<unsigned long long>(from->step) : 0ULL, from ? from->time : 0.0);
+    } catch (const ArchiveError& e) {
+        std::fprintf(stderr, "%s: %s: %s\n", argv[0], archive.c_str(), e.what());
+        return 1;
+    }
     // --html: a recorder reading the world after every step (it keeps a frame when one is due)
     std::optional<Recorder> recorder;
     if (!html_output.empty()) {
@@ -541,8 +779,10 @@ int Simulator::run() {
     const bool with_events = sys.n_events > 0;
     EventMonitor monitor(sys, event_options);
     try {
-        csv.row(w);
-        if (recorder) recorder->capture(w);
+        if (!from || at) {
+            if (!at) csv.row(w);
+            if (recorder) recorder->capture(w);
+        }
         // step k is dt long (the last one shortened to end at t_end) and ends at exactly k·dt:
         // the time is set, not accumulated
         const long total = steps + (short_step ? 1 : 0);
@@ -550,27 +790,60 @@ int Simulator::run() {
         // step_to(target, h): one step of the integrator towards target, h long when the run
         // step is whole, and w.time where it ended. With events, the monitor watches every
         // such step; after an event the rest of the run step is taken from the event time.
-        auto advance = [&](auto&& step_to, long k, double target, const EventMonitor::Extension* extension = nullptr) {
-            const double h = k <= steps ? dt : last;
-            if (!with_events) {
-                step_to(target, h);
-                w.time = target;
-            } else if (!advance_with_events(monitor, w, target, h, step_to, extension)) {
-                csv.row(w); // stopped by an event: the state at it is the last row
-                return false;
-            }
-            if (k % every == 0 || k == total) csv.row(w);
-            if (recorder) recorder->capture(w);
-            return true;
-        };
         IntegratorSettings settings;
         settings.dt = dt;
         settings.projection = projection;
         settings.rtol = rtol;
         settings.atol = atol;
         const std::unique_ptr<RunIntegrator> run = entry->make(sys, w, settings, with_events);
-        for (long k = 1; k <= total; ++k)
+        // a snapshot after every archive_every-th step: the world, what the integrator, the
+        // monitor and the output carry to the next step (the rows up to it on the disk first)
+        auto snapshot = [&](long k) {
+            ArchiveSnapshot snap;
+            snap.step = static_cast<std::uint64_t>(k);
+            snap.time = w.time;
+            ArchiveBytes world, integrator_state, events;
+            save_world(world, w);
+            run->save(integrator_state);
+            monitor.save(events);
+            snap.sections = {{"world", world.take()},
+                             {"integrator", integrator_state.take()},
+                             {"events", events.take()},
+                             {"output", csv.save(true)}};
+            writer->write(snap);
+            run->restart_at_snapshot();
+        };
+        if (from) {
+            ArchiveReader integrator_state(from->section("integrator"), "the snapshot's integrator state");
+            run->restore(integrator_state);
+            integrator_state.finish();
+            ArchiveReader events(from->section("events"), "the snapshot's event monitor");
+            monitor.restore(events);
+            events.finish();
+        }
+        auto advance = [&](auto&& step_to, long k, double target, const EventMonitor::Extension* extension = nullptr) {
+            const double h = k <= steps ? dt : last;
+            if (!with_events) {
+                step_to(target, h);
+                w.time = target;
+            } else if (!advance_with_events(monitor, w, target, h, step_to, extension)) {
+                if (!at) csv.row(w); // stopped by an event: the state at it is the last row
+                return false;
+            }
+            if (!at) {
+                if (k % every == 0) csv.row(w);
+                // (the snapshot before the last row a finished run adds: a run continued
+                // to a later end has no row there)
+                if (writer && k % archive_every == 0 && k <= steps) snapshot(k);
+                if (k == total && k % every != 0) csv.row(w);
+            }
+            if (recorder) recorder->capture(w);
+            return true;
+        };
+        const long first = from ? static_cast<long>(from->step) + 1 : 1;
+        for (long k = first; k <= total; ++k)
             if (!advance([&](double target, double h) { run->step_to(w, target, h); }, k, target_of(k), run->dense())) break;
+        if (at) csv.row(w);
         if (const std::string st = run->statistics(); !st.empty()) std::fprintf(stderr, "%s\n", st.c_str());
     } catch (const std::exception& e) {
         std::fprintf(stderr, "%s: simulation stopped at t = %.17g: %s\n", argv[0], w.time, e.what());

@@ -22,6 +22,7 @@
 /// another kind, a header of another format version — is an ArchiveError naming the offset.
 /// Nothing already written is ever rewritten.
 #include "phynjo/runtime/core/errors.hpp"
+#include "phynjo/runtime/core/world.hpp"
 
 #include <cstdint>
 #include <optional>
@@ -167,5 +168,13 @@ private:
     std::string_view what_;
     std::size_t at_ = 0;
 };
+
+/// A world's time, tick and every field of every component, bit for bit (the section
+/// "world" of docs/archive.md: field count, component count, time, tick, then the values
+/// field by field).
+void save_world(ArchiveBytes& out, const World& w);
+/// Sets `w` (whose layout must have the saved field and component counts: ArchiveError
+/// otherwise) to what save_world wrote.
+void restore_world(ArchiveReader& in, World& w);
 
 } // namespace phynjo::runtime

@@ -29,6 +29,9 @@ public:
     double step(World& w, double dt, double t_end);
     /// The step proposed for the next call.
     [[nodiscard]] double next_dt() const noexcept { return next_; }
+    /// Continues as the integrator whose next_dt() was `dt` (a run resumed from an archive's
+    /// snapshot: the step size is all Dormand–Prince carries from one step to the next).
+    void set_next_dt(double dt) noexcept { next_ = dt; }
     [[nodiscard]] std::size_t rejected() const noexcept { return rejected_; }
     /// The continuous extension of the last accepted step (Shampine's dense output of
     /// order 4, as in Hairer's DOPRI5: L. F. Shampine, Math. Comp. 46, 135 (1986)): (q, q')

@@ -44,6 +44,7 @@
 ///   (lift-off). The bouncing ball comes to rest on the floor instead of chattering. With
 ///   the remedy on, the geometric Zeno test is off (a chattering sequence is expected to
 ///   end in rest); the per-step limit still applies.
+#include "phynjo/runtime/core/archive.hpp"
 #include "phynjo/runtime/core/event.hpp"
 #include "phynjo/runtime/system/lagrangian_system.hpp"
 
@@ -137,6 +138,13 @@ public:
     [[nodiscard]] bool armed(std::size_t k) const { return armed_.at(k) != 0; }
     [[nodiscard]] bool resting(std::size_t k) const { return resting_.at(k) != 0; }
     [[nodiscard]] const LagrangianSystem& system() const noexcept { return sys_; }
+
+    /// What the monitor carries from one step of the run to the next — which events are
+    /// armed and since when, which rest and what they hold, the recent firing times (Zeno),
+    /// the log, whether the run was stopped — for an archive's snapshot (core/archive.hpp).
+    void save(ArchiveBytes& out) const;
+    /// Continues as the monitor that saved `in` (of the same model: ArchiveError otherwise).
+    void restore(ArchiveReader& in);
 
 private:
     /// Is guard value g on event k's armed side (g > 0 for a falling event, g < 0 for a rising one)?

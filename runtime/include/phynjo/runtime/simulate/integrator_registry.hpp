@@ -4,6 +4,7 @@
 /// (`--integrator NAME`, its --help), the sweeps, generated code's `workflow(P, world, NAME)`
 /// and docs/generated-code.md's table know of them. A new integrator is one file under
 /// integrators/ and one entry in runtime/src/simulate/integrator_registry.cpp.
+#include "phynjo/runtime/core/archive.hpp"
 #include "phynjo/runtime/core/workflow.hpp"
 #include "phynjo/runtime/core/world.hpp"
 #include "phynjo/runtime/simulate/events.hpp"
@@ -40,6 +41,18 @@ public:
     [[nodiscard]] virtual const EventMonitor::Extension* dense() const { return nullptr; }
     /// What it did, one line for stderr (its step and Newton counts), or empty.
     [[nodiscard]] virtual std::string statistics() const { return {}; }
+
+    /// For an archive's snapshot (core/archive.hpp, docs/archive.md): what the integrator
+    /// carries from one run step to the next beyond the world (Dormand–Prince: its step
+    /// size). A new integrator of the same entry and settings that restores it continues
+    /// bit for bit as this one would have.
+    virtual void save(ArchiveBytes& out) const { (void)out; }
+    virtual void restore(ArchiveReader& in) { (void)in; }
+    /// The restart rule of integrators whose history is not saved (CVODE's, IDA's and Bdf's
+    /// multistep history: SUNDIALS' memory): the driver calls this after each snapshot, and the
+    /// integrator starts afresh from the world as a resumed one does. True when it restarts
+    /// (a run with snapshots is then the run that restarts at each of them).
+    virtual bool restart_at_snapshot() { return false; }
 };
 
 /// One integrator of generated models.
