@@ -113,17 +113,22 @@ killed cvode "stiff chain, cvode restarting at each snapshot" 20 "out.csv" -- \
 boundary() { # LABEL COMMAND...
   local label=$1; shift
   local dir="$work/boundary"; rm -rf "$dir"; mkdir -p "$dir"
-  "$@" --t-end 6 --dt 1e-3 --every 1 -o "$dir/ref.csv" --events "$dir/ev.csv" --archive "$dir/a.par" --archive-every 1 2>/dev/null
+  "$@" --t-end 6 --dt 1e-3 --every 1 -o "$dir/ref.csv" --events "$dir/ev.csv" 2>/dev/null
   local n=0 wrong="" te k want got
   while IFS=, read -r te _; do
+    # the event's step k (it ends after te); an archive whose snapshots are every k - 1 steps
+    # has one at the step before (and the next at 2k - 2 > k): --at k*dt starts from it
     k=$(awk -v t="$te" 'BEGIN { k = int(t / 0.001); if (k * 0.001 < t) k++; print k }')
-    [ "$k" -gt 6000 ] && continue
+    [ "$k" -lt 3 ] && continue
+    rm -f "$dir/a.par"
+    "$@" --t-end 6 --dt 1e-3 --every 1 -o "$dir/out.csv" --archive "$dir/a.par" --archive-every $((k - 1)) 2>/dev/null
     want=$(sed -n "$((k + 2))p" "$dir/ref.csv")
-    got=$("$@" --t-end 6 --dt 1e-3 --every 1 -o /dev/stdout --archive "$dir/a.par" --at "$(awk -v k=$k 'BEGIN { printf "%.17g", k * 0.001 }')" 2>/dev/null | tail -1)
+    got=$("$@" --t-end 6 --dt 1e-3 --every 1 -o /dev/stdout --archive "$dir/a.par" --at "$(awk -v k=$k 'BEGIN { printf "%.17g", k * 0.001 }')" 2>"$dir/at.err" | tail -1)
     n=$((n + 1))
+    grep -q "from the snapshot at step $((k - 1))," "$dir/at.err" || wrong="$wrong t = $te: not from the snapshot at step $((k - 1)) [$(head -c 200 "$dir/at.err")];"
     [ "$got" = "$want" ] || wrong="$wrong t = $te: '${got:0:60}' != '${want:0:60}';"
   done < <(tail -n +2 "$dir/ev.csv")
-  if [ $n -ge 3 ] && [ -z "$wrong" ]; then ok "$label: --at the end of each of the $n event steps, from the snapshot just before: the run's state"
+  if [ $n -ge 3 ] && [ -z "$wrong" ]; then ok "$label: --at the end of each of the $n event steps, from the snapshot just before it: the run's state"
   else bad "$label: $n events;$wrong"; fi
 }
 boundary "bouncing ball coming to rest, rk4" "$bin/bouncing_ball_sim" --rest-speed 0.5

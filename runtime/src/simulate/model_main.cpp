@@ -748,10 +748,11 @@ int Simulator::run() {
             world.finish();
         }
         if (!csv.open(output, shapes_output, argv[0], w, from && !at ? &from->section("output") : nullptr)) return 1;
-        if (resume)
-            std::fprintf(stderr, from ? "%s: --resume: continuing from the snapshot at step %llu, t = %.17g s\n"
-                                      : "%s: --resume: no snapshot yet in the archive; the run starts again\n",
-                         argv[0], from ? static_cast<unsigned long long>(from->step) : 0ULL, from ? from->time : 0.0);
+        if (resume || at)
+            std::fprintf(stderr, from ? "%s: %s: continuing from the snapshot at step %llu, t = %.17g s\n"
+                                      : "%s: %s: no snapshot at or before that step in the archive; from the start\n",
+                         argv[0], resume ? "--resume" : "--at", from ? static_cast<unsigned long long>(from->step) : 0ULL,
+                         from ? from->time : 0.0);
     } catch (const ArchiveError& e) {
         std::fprintf(stderr, "%s: %s: %s\n", argv[0], archive.c_str(), e.what());
         return 1;
