@@ -709,13 +709,8 @@ int Simulator::run() {
             adopt("every", every);
             adopt("archive-every", archive_every);
         }
-    } catch (const ArchiveError& e) {
-        std::fprintf(stderr, "%s: %s\n", argv[0], e.what());
-        return 1;
-    }
-    if (every <= 0) every = std::max(1L, steps / 5000);
-    if (archive_every <= 0) archive_every = std::max(1L, steps / 100);
-    try {
+        if (every <= 0) every = std::max(1L, steps / 5000);
+        if (archive_every <= 0) archive_every = std::max(1L, steps / 100);
         if (!archive.empty()) {
             ArchiveHeader header = archive_header(sys, w);
             if (at) // --at writes its row elsewhere: the run's files are the archive's
