@@ -19,19 +19,29 @@ RANDOM=20261204 # the kill times: fixed, as every seed in the tests
 now_ms() { date +%s%3N; }
 
 # killed DIR LABEL N FILES -- COMMAND...: N times, runs COMMAND --archive A, kills it with SIGKILL
-# after a random part of the uninterrupted run's time, and continues it with --resume A (or
-# runs it again when no archive was made); each time the FILES (space-separated, in
-# $work/DIR) must then be those of the run without a stop (FILE.ref).
+# when its first FILE has reached a random part of its length in the uninterrupted run (a part
+# of 0: at start-up), and continues it with --resume A (or runs it again when no archive was
+# made); each time the FILES (space-separated, in $work/DIR) must then be those of the run
+# without a stop (FILE.ref). The moment follows the run's progress, not the clock: a machine
+# slower or busier than when the reference was timed still has its kills inside the run.
 killed() {
   local dir="$work/$1" name=$2 n=$3 files=$4; shift 5
-  local ms=$(cat "$dir/ms") kills=0 from_snapshots=0 wrong="" f
+  local ms=$(cat "$dir/ms") kills=0 from_snapshots=0 wrong="" f watch
+  watch=${files%% *}
+  local full=$(stat -c %s "$dir/$watch.ref")
   for ((i = 0; i < n; ++i)); do
     rm -f "$dir/a.par"; for f in $files; do rm -f "$dir/$f"; done
     "$@" --archive "$dir/a.par" >/dev/null 2>/dev/null &
-    local pid=$!
-    # a moment in the run, its start-up included
-    local delay=$((RANDOM % (ms + 40)))
-    sleep "$((delay / 1000)).$(printf '%03d' $((delay % 1000)))"
+    local pid=$! part=$((RANDOM % 1000)) size st=R
+    local at=$((full * part / 1000))
+    # until the output has grown that far, or the run has ended (a zombie: state Z)
+    while [ "$st" != Z ] && [ -e "/proc/$pid" ]; do
+      size=$(stat -c %s "$dir/$watch" 2>/dev/null) || size=0
+      [ "$size" -ge "$at" ] && break
+      sleep 0.002
+      read -r _ _ st _ 2>/dev/null < "/proc/$pid/stat" || st=Z
+    done
+    local delay="$part/1000 of $watch"
     kill -9 "$pid" 2>/dev/null
     wait "$pid" 2>/dev/null
     [ $? -eq 137 ] && kills=$((kills + 1))
@@ -39,7 +49,7 @@ killed() {
     else "$@" --archive "$dir/a.par" >/dev/null 2>"$dir/kill.err"; fi
     grep -q "continuing from the snapshot at step" "$dir/kill.err" && from_snapshots=$((from_snapshots + 1))
     for f in $files; do
-      cmp -s "$dir/$f" "$dir/$f.ref" || wrong="$wrong killed after $delay ms: $f differs [$(cmp "$dir/$f" "$dir/$f.ref" 2>&1 | head -1); $(tail -c 200 "$dir/kill.err")];"
+      cmp -s "$dir/$f" "$dir/$f.ref" || wrong="$wrong killed at $delay: $f differs [$(cmp "$dir/$f" "$dir/$f.ref" 2>&1 | head -1); $(tail -c 200 "$dir/kill.err")];"
     done
   done
   # the kills must land in the run, and after snapshots: else they test nothing
