@@ -4,9 +4,13 @@
 // continues; every flipped bit anywhere is an error naming the record; another run's or another
 // format's archive is refused saying which; a write that fails is an error at that write.
 #include "phynjo/runtime/core/archive.hpp"
+#include "phynjo/runtime/integrators/nbody_leapfrog.hpp"
+#include "phynjo/runtime/particles/particles3d.hpp"
+#include "phynjo/runtime/simulate/archived_run.hpp"
 
 #include <catch2/catch.hpp>
 
+#include <cinttypes>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
@@ -324,4 +328,108 @@ TEST_CASE("archive: one writer at a time") {
     auto next = ArchiveWriter::resume(p.string(), read_archive(p.string()), header_of("pendulum"), false); // the first closed
     next.write(snapshot(20));
     CHECK(read_archive(p.string()).snapshots.size() == 3);
+}
+
+TEST_CASE("archive: a world's run continued from its snapshot is the run never stopped, its times t0 + k dt") {
+    // Catches: a snapshot without the Stepper's clock (a continued run's times t_snap + j·dt,
+    // which round otherwise than t0 + k·dt), the rows past the snapshot not cut back, a state
+    // restored from a snapshot after the step asked for, a world of another shape continued.
+    Folder f("world-run");
+    const NBodyGravity g{1.0, 0.01};
+    const double dt = 1e-3;
+    auto make = [] {
+        Registry r;
+        for (const char* name : {"a", "b", "c"}) r.add(name);
+        World w = make_particles(r);
+        const double x[3][4] = {{0, 0, 0, 0.5}, {1, 0, 0, 0.3}, {0, 1.5, 0.2, 0.2}};
+        for (Index i = 0; i < 3; ++i) {
+            w.at(kX, i) = x[i][0], w.at(kY, i) = x[i][1], w.at(kZ, i) = x[i][2], w.at(kMass, i) = x[i][3];
+            w.at(kVX, i) = 0.1 * static_cast<double>(i) - 0.1;
+        }
+        return w;
+    };
+    auto row = [](std::string& out, const World& w) {
+        char line[64];
+        std::snprintf(line, sizeof line, "%.17g,%016" PRIx64 "\n", w.time, w.hash());
+        out += line;
+    };
+    ArchiveHeader header;
+    header.add("program", "test").add("dt", "0.001");
+    // the run never stopped
+    World ref = make();
+    Stepper ref_stepper(nbody_leapfrog(g, ref.layout_ptr()));
+    std::string ref_rows;
+    std::vector<double> times;
+    for (int k = 0; k < 1000; ++k) {
+        ref_stepper.step(ref, dt);
+        row(ref_rows, ref);
+        times.push_back(ref.time);
+    }
+    // the archived run, stopped after 700 steps (as a kill: the rows after the snapshot at 600 written)
+    const std::string archive = (f.dir / "run.pjar").string(), rows = (f.dir / "rows.csv").string();
+    {
+        World w = make();
+        Stepper stepper(nbody_leapfrog(g, w.layout_ptr()));
+        ArchivedRun run = ArchivedRun::create(archive, header, w, ArchiveSpacing{300, 0}, {rows}, false);
+        for (int k = 0; k < 700; ++k) {
+            stepper.step(w, dt);
+            std::string r;
+            row(r, w);
+            std::fputs(r.c_str(), run.output(0));
+            run.stepped(w, stepper);
+        }
+        CHECK(run.snapshots() == 2);
+    }
+    {
+        World w = make();
+        Stepper stepper(nbody_leapfrog(g, w.layout_ptr()));
+        ArchivedRun run = ArchivedRun::resume(archive, header, w, stepper, ArchiveSpacing{300, 0}, {rows}, false);
+        REQUIRE(run.step() == 600);
+        for (std::uint64_t k = run.step(); k < 1000; ++k) {
+            stepper.step(w, dt);
+            std::string r;
+            row(r, w);
+            std::fputs(r.c_str(), run.output(0));
+            run.stepped(w, stepper);
+        }
+        run.finish(w, stepper);
+        run.close();
+        CHECK(w == ref);
+        CHECK(w.time == ref.time);
+    }
+    CHECK(slurp(rows) == ref_rows);
+
+    // the state at step 650: the snapshot at 600 (not 900) stepped on
+    World w = make();
+    Stepper stepper(nbody_leapfrog(g, w.layout_ptr()));
+    REQUIRE(ArchivedRun::restore(archive, header, w, stepper, 650) == 600);
+    World fresh_clock = w;
+    for (int k = 600; k < 650; ++k) stepper.step(w, dt);
+    CHECK(w.time == times[649]);
+    // the clock matters: from the same world with a fresh clock, some time rounds otherwise
+    Stepper fresh(nbody_leapfrog(g, fresh_clock.layout_ptr()));
+    int differ = 0;
+    for (int k = 600; k < 1000; ++k) {
+        fresh.step(fresh_clock, dt);
+        differ += fresh_clock.time != times[static_cast<std::size_t>(k)];
+    }
+    CHECK(differ > 0);
+
+    // another world's shape is another run
+    Registry two;
+    two.add("a");
+    two.add("b");
+    World other = make_particles(two);
+    Stepper other_stepper(nbody_leapfrog(g, other.layout_ptr()));
+    CHECK_THROWS_WITH(ArchivedRun::restore(archive, header, other, other_stepper),
+                      Catch::Contains("another run") && Catch::Contains("world.components"));
+}
+
+TEST_CASE("archive: the spacing of snapshots, from its text") {
+    // Catches: "2s" read as 2 steps, a spacing of 0 or a negative one accepted.
+    CHECK(ArchiveSpacing::parse("250")->steps == 250);
+    CHECK(ArchiveSpacing::parse("2.5s")->steps == 0);
+    CHECK(ArchiveSpacing::parse("2.5s")->seconds == 2.5);
+    for (const char* bad : {"", "0", "-3", "0s", "-1s", "s", "1.5", "3x", "nans", "infs", "1e400s"})
+        CHECK_FALSE(ArchiveSpacing::parse(bad));
 }

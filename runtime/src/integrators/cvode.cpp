@@ -163,12 +163,12 @@ Cvode::~Cvode() = default;
 
 void Cvode::Impl::prepare(const World& w) {
     auto& k = *this;
-    double* y = N_VGetArrayPointer(k.y);
+    double* values = N_VGetArrayPointer(k.y);
     // continue only from where the last call left the state
     if (!k.last.matches(w, k.n)) {
         for (std::size_t i = 0; i < k.n; ++i) {
-            y[i] = w.at(kGQ, static_cast<Index>(i));
-            y[k.n + i] = w.at(kGV, static_cast<Index>(i));
+            values[i] = w.at(kGQ, static_cast<Index>(i));
+            values[k.n + i] = w.at(kGV, static_cast<Index>(i));
         }
         if (!k.initialized) {
             k.check(CVodeInit(k.mem, Impl::rhs, w.time, k.y), "CVodeInit");

@@ -4,6 +4,7 @@
 /// worlds, rules, workflows, the Process interpreter, events), particles (NState, 3-D
 /// particles, forces, N-body), rigid bodies, collision, contacts, integrators, and models
 /// (what generated code binds to).
+#include "phynjo/runtime/core/archive.hpp"
 #include "phynjo/runtime/core/component.hpp"
 #include "phynjo/runtime/core/errors.hpp"
 #include "phynjo/runtime/core/event.hpp"
@@ -47,6 +48,7 @@
 #include "phynjo/runtime/integrators/symplectic_euler.hpp"
 
 #include "phynjo/runtime/system/constraint_projection.hpp"
+#include "phynjo/runtime/simulate/archived_run.hpp"
 #include "phynjo/runtime/simulate/generated.hpp"
 #include "phynjo/runtime/view/recorder.hpp"
 #include "phynjo/runtime/system/detail/kkt_solve.hpp"

@@ -116,6 +116,21 @@ public:
     }
     void set_checked(bool on) noexcept { interpreter_.set_checked(on); }
 
+    /// What step() keeps to make times exact: t₀, dt, the steps k since t₀, the time the last
+    /// step ended (NaN before the first). Saved with a world (simulate/archived_run.hpp), it
+    /// lets a continued run's times be t₀ + k·dt like the uninterrupted run's.
+    struct Clock {
+        double origin = 0, dt = 0, last_time = std::numeric_limits<double>::quiet_NaN();
+        std::uint64_t count = 0;
+    };
+    [[nodiscard]] Clock clock() const noexcept { return {origin_, last_dt_, last_time_, count_}; }
+    void set_clock(const Clock& c) noexcept {
+        origin_ = c.origin;
+        last_dt_ = c.dt;
+        last_time_ = c.last_time;
+        count_ = c.count;
+    }
+
     /// Like run(), but never throws and never lets NaN or infinity through unnoticed: after
     /// every step the entries the workflow writes are checked; the run stops at the first
     /// non-finite entry, or at the first exception a rule throws, and the report says which
