@@ -300,25 +300,25 @@ TEST_CASE("rk4_step_values_lanes: each lane is its run alone, bit for bit, and r
 
 TEST_CASE("rk4_step_values_lanes_each: each lane with its own parameters is its run alone, bit for bit",
           "[lanes][kernels]") {
-    PHYNJO_LANES_AGREE(flip_pendulum, [](flip_pendulum::Parameters& p, std::size_t l) {
-        p.g = 9.81 + 0.7 * static_cast<double>(l);
-        p.l2 = 1.0 / (1.0 + static_cast<double>(l));
-        p.m1 = 1.0 + 0.25 * static_cast<double>(l * l);
+    PHYNJO_LANES_AGREE(flip_pendulum, [](flip_pendulum::Parameters& p, std::size_t lane) {
+        p.g = 9.81 + 0.7 * static_cast<double>(lane);
+        p.l2 = 1.0 / (1.0 + static_cast<double>(lane));
+        p.m1 = 1.0 + 0.25 * static_cast<double>(lane * lane);
     });
     // I = Mp R²/2 follows Mp and R lane by lane, or is set in one lane
-    PHYNJO_LANES_AGREE(physical_pendulum, [](physical_pendulum::Parameters& p, std::size_t l) {
-        p.Mp = 2.0 + static_cast<double>(l);
-        p.R = 0.5 - 0.1 * static_cast<double>(l % 2);
-        if (l == 1) p.I = 0.77;
+    PHYNJO_LANES_AGREE(physical_pendulum, [](physical_pendulum::Parameters& p, std::size_t lane) {
+        p.Mp = 2.0 + static_cast<double>(lane);
+        p.R = 0.5 - 0.1 * static_cast<double>(lane % 2);
+        if (lane == 1) p.I = 0.77;
     });
     // sin(alpha) and the derived s0 = sin(alpha)/2 + 1/10: functions of the parameters alone
-    PHYNJO_LANES_AGREE(incline, [](incline::Parameters& p, std::size_t l) {
-        p.alpha = 0.4 + 0.3 * static_cast<double>(l);
-        p.k = 3.0 + static_cast<double>(l);
+    PHYNJO_LANES_AGREE(incline, [](incline::Parameters& p, std::size_t lane) {
+        p.alpha = 0.4 + 0.3 * static_cast<double>(lane);
+        p.k = 3.0 + static_cast<double>(lane);
     });
-    PHYNJO_LANES_AGREE(driven, [](driven::Parameters& p, std::size_t l) {
-        p.u = 0.3 - 0.2 * static_cast<double>(l);
-        p.w = 1.2 + 0.5 * static_cast<double>(l);
+    PHYNJO_LANES_AGREE(driven, [](driven::Parameters& p, std::size_t lane) {
+        p.u = 0.3 - 0.2 * static_cast<double>(lane);
+        p.w = 1.2 + 0.5 * static_cast<double>(lane);
     });
 }
 
