@@ -655,6 +655,10 @@ ArchiveHeader Simulator::archive_header(const LagrangianSystem& sys, const World
     header.add("every", std::to_string(every)).add("archive-every", std::to_string(archive_every));
     header.add("output", output.empty() ? "(standard output)" : output);
     header.add("shapes", shapes_output.empty() ? "(none)" : shapes_output);
+    // the world's field names, for a reader of the file alone (phynjo-archive extract)
+    std::string fields;
+    for (const auto& f : w0.layout().fields) fields += (fields.empty() ? "" : ",") + f;
+    header.add("world.fields", fields);
     return header;
 }
 
