@@ -37,6 +37,8 @@ const char* const kUsage =
     "  nbody                  a cluster of --n bodies (default 512), G = 1, dt = 1e-3\n"
     "  --t-end T              s (default: 3 for pile and scene, 10 for nbody)\n"
     "  --every K              a row t,energy,hash every K steps (default 10) to -o (default stdout)\n"
+    "  --full                 rows of the full state instead: t, then every body's position and\n"
+    "                         velocity (and a rigid body's spin and orientation), %%.17g\n"
     "  --threads P            threads of the scene and the N-body sum (results do not depend on P)\n"
     "  --archive FILE         keep the run in an archive: a snapshot after every K-th step, or\n"
     "                         every X seconds of wall time (--archive-every; default 1s)\n"
@@ -52,6 +54,7 @@ struct Options {
     std::string world, output, archive, resume, archive_every = "1s";
     long n = 0, every = 10;
     unsigned threads = 1;
+    bool full = false;
     std::optional<double> t_end, at;
 };
 
@@ -79,6 +82,7 @@ Options parse(int argc, char** argv) {
         if (a == "--n") o.n = whole(i);
         else if (a == "--t-end") o.t_end = number(i);
         else if (a == "--every") o.every = whole(i);
+        else if (a == "--full") o.full = true;
         else if (a == "--threads") o.threads = static_cast<unsigned>(whole(i));
         else if (a == "-o" || a == "--output") o.output = value(i);
         else if (a == "--archive") o.archive = value(i);
@@ -204,8 +208,39 @@ Model make(const Options& o) {
     return m;
 }
 
+/// The state's fields in a --full row: x, y, z, vx, vy, vz (kX … kVZ of both kinds of world),
+/// then a rigid body's wx, wy, wz, qw, qx, qy, qz.
+std::vector<FieldId> state_fields(const World& w) {
+    std::vector<FieldId> f{kX, kY, kZ, kVX, kVY, kVZ};
+    if (w.layout().fields.size() > kQZ && w.layout().fields[kQZ] == "qz")
+        for (FieldId k = kWX; k <= kQZ; ++k) f.push_back(k);
+    return f;
+}
+
+bool full_rows = false;
+
+void header_line(std::FILE* f, const World& w) {
+    if (!full_rows) {
+        std::fprintf(f, "t,energy,hash\n");
+        return;
+    }
+    std::fprintf(f, "t");
+    const std::vector<FieldId> fields = state_fields(w);
+    for (Index i = 0; i < w.size(); ++i)
+        for (FieldId k : fields) std::fprintf(f, ",%s%u", w.layout().fields[k].c_str(), static_cast<unsigned>(i));
+    std::fprintf(f, "\n");
+}
+
 void row(std::FILE* f, const World& w, double energy) {
-    std::fprintf(f, "%.17g,%.17g,%016" PRIx64 "\n", w.time, energy, w.hash());
+    if (!full_rows) {
+        std::fprintf(f, "%.17g,%.17g,%016" PRIx64 "\n", w.time, energy, w.hash());
+        return;
+    }
+    std::fprintf(f, "%.17g", w.time);
+    const std::vector<FieldId> fields = state_fields(w);
+    for (Index i = 0; i < w.size(); ++i)
+        for (FieldId k : fields) std::fprintf(f, ",%.17g", w.at(k, i));
+    std::fprintf(f, "\n");
 }
 
 /// Whole steps of dt in t (a ratio within 1e-9 of a whole number is that number).
@@ -241,7 +276,8 @@ int main(int argc, char** argv) {
     header.add("program", "archived_world").add("world", o.world).add("n", std::to_string(m.n));
     char dt_text[32];
     std::snprintf(dt_text, sizeof dt_text, "%.17g", m.dt);
-    header.add("dt", dt_text).add("every", std::to_string(o.every));
+    header.add("dt", dt_text).add("every", std::to_string(o.every)).add("rows", o.full ? "full" : "hash");
+    full_rows = o.full;
     try {
         const ArchiveSpacing spacing = *ArchiveSpacing::parse(o.archive_every);
         if (o.at) {
@@ -253,7 +289,7 @@ int main(int argc, char** argv) {
             if (last > 1e-9 * m.dt) stepper.step(w, last);
             std::FILE* f = o.output.empty() ? stdout : std::fopen(o.output.c_str(), "w");
             if (!f) throw ArchiveError("cannot write " + o.output);
-            std::fprintf(f, "t,energy,hash\n");
+            header_line(f, w);
             row(f, w, m.energy(w));
             if (f != stdout) std::fclose(f);
             return 0;
@@ -277,7 +313,7 @@ int main(int argc, char** argv) {
         std::uint64_t k = run ? run->step() : 0;
         if (k > steps) throw Usage{"the archived run is past --t-end already"};
         if (k == 0) {
-            std::fprintf(out, "t,energy,hash\n");
+            header_line(out, w);
             row(out, w, m.energy(w));
         }
         const auto every = static_cast<std::uint64_t>(o.every);

@@ -103,6 +103,21 @@ cmp -s "$d/out.csv" "$d/first.csv" || bad "pendulum_wall: --archive changed the 
 cmp -s "$d/out.csv" "$d/ref.csv" && ok "a finished run continued to a later --t-end: the longer run's bytes" \
   || bad "continued run differs [$(head -c 300 "$d/err")]"
 
+# the default spacing (a snapshot a second of wall time, and at the last whole step): a
+# finished run continued from its last whole step to the longer run's bytes
+"$bin/pendulum_wall_sim" --t-end 20 --integrator dopri --archive "$d/w.par" -o "$d/w.csv" 2>/dev/null
+"$bin/pendulum_wall_sim" --t-end 35.5 --integrator dopri --every 4 --resume "$d/w.par" -o "$d/w.csv" 2>"$d/err"
+cmp -s "$d/w.csv" "$d/ref.csv" && grep -q "continuing from the snapshot at step 20000," "$d/err" \
+  && ok "the default spacing (wall time): a finished run continued from its last whole step to the longer run's bytes" \
+  || bad "default spacing: $(cmp "$d/w.csv" "$d/ref.csv" 2>&1) [$(head -c 300 "$d/err")]"
+# snapshots every 0.02 s of wall time in a run of about a second: many of them, the same bytes
+"$bin/pendulum_wall_sim" --t-end 40 --integrator dopri --dt 1e-5 --every 100 --archive "$d/x.par" --archive-every 0.02s -o "$d/x.csv" 2>/dev/null
+"$bin/pendulum_wall_sim" --t-end 40 --integrator dopri --dt 1e-5 --every 100 -o "$d/xr.csv" 2>/dev/null
+records=$(grep -a -o PJAR "$d/x.par" | wc -l) # the header and the snapshots (a record's first bytes)
+[ "$records" -ge 5 ] && cmp -s "$d/x.csv" "$d/xr.csv" \
+  && ok "--archive-every 0.02s: $((records - 1)) snapshots, the run's bytes" \
+  || bad "--archive-every 0.02s: $((records - 1)) snapshots; $(cmp "$d/x.csv" "$d/xr.csv" 2>&1)"
+
 # ---- 6. damage, other runs, failing writes --------------------------------------------------
 d="$work/rod"
 a="$d/plain.par"
@@ -161,6 +176,9 @@ kill -9 $busy 2>/dev/null; wait $busy 2>/dev/null
 [ $r -eq 2 ] && ok "--at without an archive: exit 2" || bad "--at alone: rc $r"
 "$bin/bouncing_ball_sim" --archive-every 0 --archive "$d/x.par" 2>"$d/err"; r=$?
 [ $r -eq 2 ] && ok "--archive-every 0: exit 2" || bad "--archive-every 0: rc $r"
+"$bin/stiff_chain_sim" --integrator cvode --archive "$d/z.par" --archive-every 2s 2>"$d/err"; r=$?
+[ $r -eq 2 ] && grep -q "restarts at each snapshot" "$d/err" && ok "cvode with snapshots by wall time: exit 2 (its run would depend on them)" \
+  || bad "cvode --archive-every 2s: rc $r $(cat "$d/err")"
 "$bin/bouncing_ball_sim" --grid e=0.1:0.9:3 --summary "$d/s.csv" --archive "$d/y.par" 2>"$d/err"; r=$?
 [ $r -eq 2 ] && ok "--archive with a sweep: exit 2" || bad "sweep archive: rc $r"
 finish

@@ -158,28 +158,28 @@ std::unique_ptr<RunIntegrator> make_dopri(const LagrangianSystem& system, World&
 constexpr char kCvode[] = "cvode", kIda[] = "ida", kBdf[] = "bdf";
 
 // name, order, symplectic, constraints, adaptive, tolerances, stiff, sweeps, fused_kernels,
-// reference, help, workflow, make
+// restarts, reference, help, workflow, make
 const std::array<IntegratorEntry, 7> kRegistry{{
-    {"rk4", "4", false, true, false, false, false, true, true, "Kutta (1901)",
+    {"rk4", "4", false, true, false, false, false, true, true, false, "Kutta (1901)",
      "classical Runge-Kutta on (q, q'); constraints: projected after each step",
      &fixed_workflow<lagrangian_rk4>, &make_fixed<lagrangian_rk4>},
-    {"dopri", "5(4)", false, true, true, true, false, true, false, "Dormand & Prince, J. Comput. Appl. Math. 6, 19 (1980)",
+    {"dopri", "5(4)", false, true, true, true, false, true, false, false, "Dormand & Prince, J. Comput. Appl. Math. 6, 19 (1980)",
      "Dormand-Prince 5(4), adaptive between the rows (defaults rtol 1e-9, atol 1e-12)", nullptr, &make_dopri},
-    {"midpoint", "2", true, true, false, false, false, true, false,
+    {"midpoint", "2", true, true, false, false, false, true, false, false,
      "Hairer, Lubich & Wanner, Geometric Numerical Integration, VI.3",
      "implicit midpoint in (q, p): symplectic without constraints, symmetric with them (bounded energy error)",
      &fixed_workflow<lagrangian_midpoint>, &make_fixed<lagrangian_midpoint>},
-    {"rattle", "2", true, true, false, false, false, true, false, "Andersen, J. Comput. Phys. 52, 24 (1983)",
+    {"rattle", "2", true, true, false, false, false, true, false, false, "Andersen, J. Comput. Phys. 52, 24 (1983)",
      "RATTLE: symplectic with holonomic constraints too", &fixed_workflow<lagrangian_rattle>,
      &make_fixed<lagrangian_rattle>},
-    {"cvode", "1-5", false, true, true, true, true, false, false, "Hindmarsh et al., ACM TOMS 31, 363 (2005)",
+    {"cvode", "1-5", false, true, true, true, true, false, false, true, "Hindmarsh et al., ACM TOMS 31, 363 (2005)",
      "SUNDIALS CVODE: variable-order BDF with the exact Jacobian, for stiff models (defaults rtol 1e-8, atol 1e-10); its step counts on stderr",
      &multistep_workflow<Cvode, lagrangian_cvode>, &make_multistep<Cvode, kCvode>},
-    {"ida", "1-5", false, true, true, true, true, false, false, "Gear, Gupta & Leimkuhler, J. Comput. Appl. Math. 12, 77 (1985)",
+    {"ida", "1-5", false, true, true, true, true, false, false, true, "Gear, Gupta & Leimkuhler, J. Comput. Appl. Math. 12, 77 (1985)",
      "SUNDIALS IDA: BDF on the equations with their constraints (stabilized index 2), held at every step; "
      "about 3x cvode's steps (defaults rtol 1e-8, atol 1e-10); its step counts on stderr",
      &multistep_workflow<Ida, lagrangian_ida>, &make_multistep<Ida, kIda>},
-    {"bdf", "1-5", false, false, true, true, true, false, false, "Shampine & Reichelt, SIAM J. Sci. Comput. 18, 1 (1997)",
+    {"bdf", "1-5", false, false, true, true, true, false, false, true, "Shampine & Reichelt, SIAM J. Sci. Comput. 18, 1 (1997)",
      "phynjo's own variable-order BDF/NDF with the exact Jacobian, for stiff models without constraints "
      "(defaults rtol 1e-8, atol 1e-10); its step counts on stderr",
      &multistep_workflow<Bdf, lagrangian_bdf>, &make_multistep<Bdf, kBdf>},

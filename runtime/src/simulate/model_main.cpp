@@ -2,6 +2,7 @@
 #include "phynjo/runtime/simulate/model_main.hpp"
 
 #include "phynjo/runtime/core/archive.hpp"
+#include "phynjo/runtime/simulate/archived_run.hpp"
 #include "phynjo/runtime/simulate/ensemble.hpp"
 #include "phynjo/runtime/simulate/events.hpp"
 #include "phynjo/runtime/simulate/integrator_registry.hpp"
@@ -11,6 +12,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -74,7 +76,7 @@ void help(const char* prog, const ModelCommandLine& model, const LagrangianSyste
                 "          [--energy-tolerance TOL [--fail-on-drift]] [--project-initial]\n"
                 "          [--projection-tolerance TOL] [--rtol R] [--atol A]\n"
                 "          [--events FILE] [--rest-speed V] [--max-events-per-step N] [--shapes FILE]\n"
-                "          [--html FILE [--html-fps F]] [--archive FILE [--archive-every K]]\n"
+                "          [--html FILE [--html-fps F]] [--archive FILE [--archive-every K|Xs]]\n"
                 "       %s [the options of the run] --resume FILE\n"
                 "       %s [the options of the run] --archive FILE --at T [--output FILE]\n"
                 "       %s --grid NAME=LO:HI:N... [--uniform NAME=LO:HI... --samples K [--seed S]]\n"
@@ -117,7 +119,8 @@ void help(const char* prog, const ModelCommandLine& model, const LagrangianSyste
                 "                         the next step, each record checksummed and on the disk before the\n"
                 "                         run goes on (docs/archive.md). cvode, ida and bdf restart their\n"
                 "                         history at each snapshot (the run with --archive is that run)\n"
-                "  --archive-every K      a snapshot every K steps (default: about 100 in the run)\n"
+                "  --archive-every K|Xs   a snapshot every K steps, or every X s of wall time (default: 1s;\n"
+                "                         cvode, ida, bdf: about 100 in the run, by steps only)\n"
                 "  --resume FILE          continue the run archived in FILE (killed, or finished and run\n"
                 "                         further with a later --t-end) from its last snapshot, with the\n"
                 "                         same options: --output and --shapes are cut to that snapshot and\n"
@@ -339,7 +342,8 @@ struct Simulator {
     // the archive (docs/archive.md): written (--archive), continued (--resume), read (--at)
     std::string archive;
     bool resume = false;
-    long archive_every = 0;
+    long archive_every = 0;     ///< a snapshot every K steps (0: by wall time, or the default)
+    double archive_seconds = 0; ///< … or every X s of wall time
     std::optional<double> at;
     // a sweep (sweep.hpp): its options, and the others that decide its results
     SweepCommand sweep;
@@ -454,9 +458,10 @@ bool Simulator::parse() {
             resume = a == "--resume";
         } else if (a == "--archive-every") {
             const std::string v = value("--archive-every");
-            const auto k = whole_number(v);
-            if (!k || *k <= 0) throw UsageError{"--archive-every: '" + v + "' is not a positive whole number"};
-            archive_every = *k;
+            const auto spacing = ArchiveSpacing::parse(v);
+            if (!spacing) throw UsageError{"--archive-every: '" + v + "' is neither a step count K nor seconds Xs (e.g. 2s)"};
+            archive_every = static_cast<long>(spacing->steps);
+            archive_seconds = spacing->seconds;
         } else if (a == "--at") {
             at = num("--at");
             if (!(*at >= 0)) throw UsageError{"--at must not be negative"};
@@ -501,6 +506,9 @@ void Simulator::check() {
     if (!(t_end >= 0)) throw UsageError{"--t-end must not be negative"};
     entry = find_integrator(integrator);
     if (!entry) throw UsageError{"--integrator must be " + integrator_names() + ", not '" + integrator + "'"};
+    if (archive_seconds > 0 && entry->restarts)
+        throw UsageError{"--archive-every by wall time: --integrator " + integrator +
+                         " restarts at each snapshot, so its snapshots are every K steps (--archive-every K)"};
     if ((rtol || atol) && !entry->tolerances)
         throw UsageError{"--rtol and --atol go with --integrator " +
                          integrator_names([](const IntegratorEntry& e) { return e.tolerances; })};
@@ -519,10 +527,11 @@ void Simulator::check() {
     } else if (processes && processes->size() > 1)
         throw UsageError{"only a sweep (--grid, --uniform) runs on several MPI ranks; run one simulation without mpirun"};
     if (!html_output.empty() && !can_write(html_output)) throw UsageError{"--html: cannot write " + html_output};
-    if (archive_every && archive.empty()) throw UsageError{"--archive-every goes with --archive FILE or --resume FILE"};
+    if ((archive_every || archive_seconds > 0) && archive.empty())
+        throw UsageError{"--archive-every goes with --archive FILE or --resume FILE"};
     if (at) {
         if (archive.empty() || resume) throw UsageError{"--at T reads the run's archive: --archive FILE --at T"};
-        if (!events_output.empty() || !shapes_output.empty() || !html_output.empty() || archive_every)
+        if (!events_output.empty() || !shapes_output.empty() || !html_output.empty() || archive_every || archive_seconds > 0)
             throw UsageError{"--at writes the state at T (to --output): not with --events, --shapes, --html or --archive-every"};
     } else if (resume && !html_output.empty()) {
         throw UsageError{"--html draws a whole run: not with --resume (the page of a resumed run would miss its first part)"};
@@ -652,7 +661,9 @@ ArchiveHeader Simulator::archive_header(const LagrangianSystem& sys, const World
     header.add("project-initial", project_initial ? "yes" : "no").add("projection-tolerance", text(projection.tolerance));
     header.add("rest-speed", text(event_options.rest_speed))
         .add("max-events-per-step", std::to_string(event_options.max_events_per_step));
-    header.add("every", std::to_string(every)).add("archive-every", std::to_string(archive_every));
+    char seconds[32];
+    std::snprintf(seconds, sizeof seconds, "%.17gs", archive_seconds);
+    header.add("every", std::to_string(every)).add("archive-every", archive_every > 0 ? std::to_string(archive_every) : seconds);
     header.add("output", output.empty() ? "(standard output)" : output);
     header.add("shapes", shapes_output.empty() ? "(none)" : shapes_output);
     // the world's field names, for a reader of the file alone (phynjo-archive extract)
@@ -706,15 +717,21 @@ int Simulator::run() {
     try {
         if (resume || at) {
             contents = read_archive(archive);
-            auto adopt = [&](const char* key, long& value) {
-                if (value > 0) return;
-                if (const auto v = contents->header.get(key)) value = whole_number(*v).value_or(0);
-            };
-            adopt("every", every);
-            adopt("archive-every", archive_every);
+            if (const auto v = contents->header.get("every"); v && every <= 0) every = whole_number(*v).value_or(0);
+            if (const auto v = contents->header.get("archive-every"); v && archive_every <= 0 && !(archive_seconds > 0))
+                if (const auto spacing = ArchiveSpacing::parse(std::string(*v))) {
+                    archive_every = static_cast<long>(spacing->steps);
+                    archive_seconds = spacing->seconds;
+                }
         }
         if (every <= 0) every = std::max(1L, steps / 5000);
-        if (archive_every <= 0) archive_every = std::max(1L, steps / 100);
+        // by default a snapshot a second of wall time (REBOUND's rule: the archive costs the
+        // same small share of any run); an integrator that restarts at each snapshot has them
+        // every K steps, about 100 in the run (where they fall changes its run)
+        if (archive_every <= 0 && !(archive_seconds > 0)) {
+            if (entry->restarts) archive_every = std::max(1L, steps / 100);
+            else archive_seconds = 1;
+        }
         if (!archive.empty()) {
             ArchiveHeader header = archive_header(sys, w);
             if (at) // --at writes its row elsewhere: the run's files are the archive's
@@ -798,6 +815,16 @@ int Simulator::run() {
         const std::unique_ptr<RunIntegrator> run = entry->make(sys, w, settings, with_events);
         // a snapshot after every archive_every-th step: the world, what the integrator, the
         // monitor and the output carry to the next step (the rows up to it on the disk first)
+        // due after every archive_every-th step, or (by wall time) after the first step that ends
+        // archive_seconds after the last snapshot — the clock read every 64 steps — and at the
+        // last whole step (a finished run continues from there)
+        auto since = std::chrono::steady_clock::now();
+        auto snapshot_due = [&](long k) {
+            if (archive_every > 0) return k % archive_every == 0;
+            if (k == steps) return true;
+            if (k % 64 != 0) return false;
+            return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count() >= archive_seconds;
+        };
         auto snapshot = [&](long k) {
             ArchiveSnapshot snap;
             snap.step = static_cast<std::uint64_t>(k);
@@ -812,6 +839,7 @@ int Simulator::run() {
                              {"output", csv.save(true)}};
             writer->write(snap);
             run->restart_at_snapshot();
+            since = std::chrono::steady_clock::now();
         };
         if (from) {
             ArchiveReader integrator_state(from->section("integrator"), "the snapshot's integrator state");
@@ -834,7 +862,7 @@ int Simulator::run() {
                 if (k % every == 0) csv.row(w);
                 // (the snapshot before the last row a finished run adds: a run continued
                 // to a later end has no row there)
-                if (writer && k % archive_every == 0 && k <= steps) snapshot(k);
+                if (writer && k <= steps && snapshot_due(k)) snapshot(k);
                 if (k == total && k % every != 0) csv.row(w);
             }
             if (recorder) recorder->capture(w);

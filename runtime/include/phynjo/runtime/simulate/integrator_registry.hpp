@@ -66,6 +66,10 @@ struct IntegratorEntry {
     bool stiff;                 ///< made for stiff models (implicit, with the exact Jacobian)
     bool sweeps;                ///< the sweeps run it
     bool fused_kernels;         ///< a sweep's run steps on generated code's fused kernels (rk4_step_values, lanes)
+    /// Its history is not archived: it restarts at every snapshot (RunIntegrator::
+    /// restart_at_snapshot, docs/archive.md), so its snapshots are spaced by steps, never by
+    /// wall time (where they fall changes its run).
+    bool restarts;
     std::string_view reference; ///< the paper or software it follows
     std::string_view help;      ///< one line for --help and the docs' table
     /// The step as a workflow (generated code's `workflow(P, world, name)`), or null where the
