@@ -12,6 +12,7 @@ $XDG_CACHE_HOME/phynjo, else ~/.cache/phynjo) and found there the next time, in 
 import collections
 import csv
 import html as _html
+import math
 import os
 import re
 import sys
@@ -25,7 +26,7 @@ from ._errors import (BuildError, KernelError, ModelError, NonFiniteResult, Phyn
 
 __version__ = _phynjo.__version__
 __all__ = ["compile", "compile_string", "integrators", "Model", "Result", "Linearization", "Parameter",
-           "Constraint", "Event", "EventRecord", "PhynjoError", "ModelError", "BuildError", "KernelError",
+           "Constraint", "Event", "EventRecord", "State", "PhynjoError", "ModelError", "BuildError", "KernelError",
            "SingularMassMatrix", "SingularConstraints", "NonFiniteResult", "RunError", "__version__"]
 
 Parameter = collections.namedtuple("Parameter", "name default unit derived")
@@ -35,6 +36,8 @@ Constraint = collections.namedtuple("Constraint", "name holonomic")
 Event = collections.namedtuple("Event", "name direction stops")
 Event.__doc__ = "An event of the model: direction -1 falling, +1 rising; stops: it ends the run."
 EventRecord = collections.namedtuple("EventRecord", "time name q qd")
+#: The state of a run at one time (Model.at): t (s), q, qd (arrays of dof), energy (J).
+State = collections.namedtuple("State", "t q qd energy")
 EventRecord.__doc__ = "An event that fired: when (s), which, and the state just after its actions."
 Integrator = collections.namedtuple("Integrator", "name order symplectic adaptive sweeps help")
 
@@ -228,7 +231,7 @@ class Model:
         return q0, v0
 
     def simulate(self, t_end=10.0, dt=1e-3, integrator="midpoint", params=None, initial=None, every=1,
-                 rtol=None, atol=None, inputs=None, control=None, control_every=1):
+                 rtol=None, atol=None, inputs=None, control=None, control_every=1, archive=None, archive_every=None):
         """One run from the model's initial state (`initial` overrides values: {"th": 0.1,
         "th'": 0}) to t_end (s), steps of dt (s; Dormand-Prince's first trial step and its
         output spacing), with the model's events. The integrators are those sweeps run:
@@ -243,8 +246,21 @@ class Model:
         at (each stage of a step);
         `control=f` — f(t, q, qd) returns {input: value}, called at t = 0 and every
         `control_every` steps with the state there; the values hold until the next call
-        (zero-order hold: a sampled controller). What f raises is raised by simulate."""
+        (zero-order hold: a sampled controller). What f raises is raised by simulate.
+
+        `archive="run.par"` keeps the run in a simulation archive (docs/archive.md): a
+        snapshot a second of wall time (`archive_every`: K steps, or "Xs" seconds), the rows
+        in "run.par.csv" and the events in "run.par.events.csv" beside it. A run killed at
+        any moment continues with `resume("run.par", the same options)`, to the same bits;
+        `at("run.par", T, the same options)` is the state at any time T. Not with inputs= or
+        control= (the archive holds neither the tables nor the controller)."""
         p = self._params(params or {})
+        if archive is not None:
+            if inputs or control is not None:
+                raise ValueError("simulate: archive= takes a run without inputs= or control= (the archive holds "
+                                 "neither their tables nor the controller)")
+            return self._archived("--archive", archive, archive_every, t_end, dt, integrator, params, initial, every,
+                                  rtol, atol)
         q0, v0 = self._initial_pairs(initial)
         table = []
         for name, sampled in (inputs or {}).items():
@@ -264,6 +280,70 @@ class Model:
                              table, control, int(control_every))
         options = dict(t_end=float(t_end), dt=float(dt), integrator=str(integrator), params=p,
                        initial=dict(initial or {}), rtol=rtol, atol=atol, inputs=table)
+        return Result(self, d, options)
+
+    def resume(self, archive, t_end=10.0, dt=1e-3, integrator="midpoint", params=None, initial=None, every=1,
+               rtol=None, atol=None, archive_every=None):
+        """Continues the run `simulate(archive=...)` kept in `archive`, killed or finished (a
+        later t_end runs it further), from its last snapshot, with the same options: the
+        Result is the run's that was never stopped, bit for bit (its rows file cut back to
+        the snapshot and continued). Raises RunError (status 1) for an archive of another
+        model, parameter or option, naming it."""
+        return self._archived("--resume", archive, archive_every, t_end, dt, integrator, params, initial, every,
+                              rtol, atol)
+
+    def at(self, archive, t, dt=1e-3, integrator="midpoint", params=None, initial=None, every=1, rtol=None,
+           atol=None):
+        """The state at time `t` (s) of the run `simulate(archive=...)` kept in `archive`,
+        given with the same options: State(t, q, qd, energy), the last row a run to t_end = t
+        ends with, bit for bit, integrated from the latest snapshot at or before t."""
+        archive = os.fspath(archive)
+        args = self._run_options(t, dt, integrator, params, initial, rtol, atol)
+        args += ["--every", str(int(every)), "--archive", archive, "--at", repr(float(t)), "--output", "/dev/stdout"]
+        status, out, err = _captured(lambda: self._k.run("phynjo-run " + self.source, args))
+        if status != 0:
+            raise RunError(status, err.strip() or f"at: the run exited with status {status}")
+        row = np.array([float(v) for v in out.strip().splitlines()[-1].split(",")])
+        n = self.dof
+        return State(row[0], row[1:1 + n], row[1 + n:1 + 2 * n], row[1 + 2 * n])
+
+    def _archived(self, how, archive, archive_every, t_end, dt, integrator, params, initial, every, rtol, atol):
+        """simulate(archive=) and resume(): the simulator's driver with --archive or --resume
+        (the same run, bit for bit, as simulate's), read back into a Result."""
+        archive = os.fspath(archive)
+        rows_path, events_path = archive + ".csv", archive + ".events.csv"
+        args = self._run_options(t_end, dt, integrator, params, initial, rtol, atol)
+        args += ["--every", str(int(every)), "--output", rows_path, how, archive]
+        if self.events:
+            args += ["--events", events_path]
+        if archive_every is not None:
+            args += ["--archive-every", str(archive_every)]
+        status, out, err = _captured(lambda: self._k.run("phynjo-run " + self.source, args))
+        failed = re.search(r"simulation stopped at t = \S+: (.*)", err)
+        if status != 0 and not (status == 1 and failed and os.path.exists(rows_path)):
+            raise RunError(status, err.strip() or f"the run exited with status {status}")
+        rows = np.loadtxt(rows_path, delimiter=",", skiprows=1, ndmin=2)
+        events = []
+        if self.events:
+            with open(events_path, encoding="utf-8") as f:
+                for line in f.read().splitlines()[1:]:
+                    cells = line.split(",")
+                    values = np.array([float(v) for v in cells[2:]])
+                    events.append((float(cells[0]), cells[1], values[:self.dof], values[self.dof:]))
+        stopped = re.search(r"the run stopped at t = \S+: event '([^']*)'", err)
+        e = rows[:, 1 + 2 * self.dof]
+        d = {
+            "rows": rows,
+            "status": "failed" if failed else "stopped" if stopped else "finished",
+            "reason": failed.group(1) if failed else f"event {stopped.group(1)}" if stopped else "",
+            "t": rows[-1, 0],
+            "first_event": [next((t for t, name, _, _ in events if name == ev.name), math.nan) for ev in self.events],
+            "max_energy_error": float(np.max(np.abs(e - e[0])) / max(1.0, abs(e[0]))),
+            "events": events,
+            "control_log": [],
+        }
+        options = dict(t_end=float(t_end), dt=float(dt), integrator=str(integrator), params=self._params(params or {}),
+                       initial=dict(initial or {}), rtol=rtol, atol=atol, inputs=[])
         return Result(self, d, options)
 
     def run(self, *args):

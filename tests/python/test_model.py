@@ -466,3 +466,44 @@ def test_a_results_page_is_the_simulators_page_of_that_run(phynjo, tmp_path):
     assert controlled == held and tabled == held and default != held
     with pytest.raises(ValueError, match="fps"):
         fell.html(fps=0)
+
+
+def test_an_archived_run_killed_resumes_to_the_same_bits(phynjo, tmp_path):
+    """Catches: simulate(archive=) not the same run as simulate(); a run killed with SIGKILL
+    (in another interpreter) that resume() does not continue to the bits of the run never
+    stopped (its rows, its events, its status); at(T) not the run's state at T; an archive
+    of another parameter continued; archive= taken with a controller it cannot hold."""
+    ball = phynjo.compile(model_path("bouncing_ball.lag"), cache_dir=CACHE)
+    options = dict(t_end=3.5, dt=1e-5, integrator="rk4", every=50)  # (before its Zeno point, 4.06 s)
+    plain = ball.simulate(**options)
+    kept = ball.simulate(archive=tmp_path / "whole.par", **options)
+    assert g17(kept.rows) == g17(plain.rows) and kept.status == plain.status == "finished"
+    assert [(e.time, e.name) for e in kept.events] == [(e.time, e.name) for e in plain.events] and len(plain.events) > 5
+    assert kept.first_event == plain.first_event
+    assert abs(kept.max_energy_error - plain.max_energy_error) <= 1e-12
+    # killed in another interpreter part way (a snapshot every 20,000 steps: 17 in the run),
+    # when its rows pass a third of their length
+    child = subprocess.Popen([sys.executable, "-c", (
+        "import sys, phynjo; m = phynjo.compile(sys.argv[1], cache_dir=sys.argv[2] or None); "
+        "m.simulate(t_end=3.5, dt=1e-5, integrator='rk4', every=50, archive=sys.argv[3], archive_every=20000)"),
+        model_path("bouncing_ball.lag"), CACHE or "", str(tmp_path / "killed.par")], env=os.environ.copy())
+    rows = tmp_path / "killed.par.csv"
+    deadline = 600
+    while child.poll() is None and (not rows.exists() or rows.stat().st_size < 200000) and deadline > 0:
+        subprocess.run(["sleep", "0.01"])
+        deadline -= 1
+    child.kill()
+    assert child.wait() == -9, "the run ended before it was killed: the test killed nothing"
+    resumed = ball.resume(tmp_path / "killed.par", archive_every=20000, **options)
+    assert g17(resumed.rows) == g17(plain.rows)
+    assert [(e.time, e.name, g17(e.q)) for e in resumed.events] == [(e.time, e.name, g17(e.q)) for e in plain.events]
+    # the state at T, from the snapshot before it
+    for T in (0.73, 2.1, 3.49):
+        s = ball.at(tmp_path / "killed.par", T, dt=1e-5, integrator="rk4", every=50)
+        to = ball.simulate(t_end=T, dt=1e-5, integrator="rk4", every=50)
+        assert g17([s.t, *s.q, *s.qd, s.energy]) == g17(to.rows[-1][:4]), T
+    with pytest.raises(phynjo.RunError, match="param.e") as err:
+        ball.resume(tmp_path / "killed.par", archive_every=20000, params={"e": 0.5}, **options)
+    assert err.value.status == 1
+    with pytest.raises(ValueError, match="control"):
+        ball.simulate(archive=tmp_path / "c.par", control=lambda t, q, qd: {}, **options)
