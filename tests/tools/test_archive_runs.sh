@@ -2,7 +2,8 @@
 # The simulators' archive (--archive, --resume, --at; docs/archive.md) end to end.
 # Catches: a snapshot that leaves out what a step carries to the next (Dormand-Prince's step
 # size, the events' arming and resting, the multistep restart, the output's length), so that a
-# run killed with SIGKILL and resumed writes other bytes than the run without a stop; a state
+# run killed with SIGKILL and resumed writes other bytes than the run without a stop (its
+# rows, events, shapes, and its --html page, drawn from the rows); a state
 # at T (--at) that is not the run's state at T bit for bit; a record cut short that stops a
 # resume, a flipped byte not reported with its offset, an archive of another model or
 # parameter continued, a write that fails not reported at that write.
@@ -53,6 +54,14 @@ opts=(--t-end 40 --dt 1e-5 --rest-speed 0.05 --every 100)
 reference ball "$bin/bouncing_ball_sim" "${opts[@]}" -o "$d/out.csv.ref" --events "$d/ev.csv.ref" --shapes "$d/sh.csv.ref"
 killed ball "bouncing ball at rest, rk4" 20 "out.csv ev.csv sh.csv" -- \
   "$bin/bouncing_ball_sim" "${opts[@]}" -o "$d/out.csv" --events "$d/ev.csv" --shapes "$d/sh.csv" --archive-every 30000
+
+# ---- 2b. --html with --resume: the page of the whole run, drawn from its rows ----------------
+d="$work/page"
+mkdir -p "$d"
+opts=(--t-end 5 --dt 1e-4 --every 1 --rest-speed 0.05)
+reference page "$bin/bouncing_ball_sim" "${opts[@]}" -o "$d/out.csv.ref" --html "$d/page.html.ref"
+killed page "bouncing ball, --html with a row every step: the page of the run never stopped" 6 "out.csv page.html" -- \
+  "$bin/bouncing_ball_sim" "${opts[@]}" -o "$d/out.csv" --html "$d/page.html" --archive-every 5000
 
 # ---- 3. CVODE (the restart rule): the run with the same snapshots, 20 kills ----------------
 d="$work/cvode"
@@ -172,6 +181,8 @@ kill -9 $busy 2>/dev/null; wait $busy 2>/dev/null
 # usage
 "$bin/bouncing_ball_sim" --archive "$a" -o /dev/null 2>"$d/err"; r=$?
 [ $r -eq 2 ] && grep -q "exists (continue its run with --resume" "$d/err" && ok "--archive of an existing file: exit 2" || bad "existing archive: rc $r"
+"$bin/bouncing_ball_sim" --resume "$a" --html "$d/p.html" 2>"$d/err"; r=$?
+[ $r -eq 2 ] && grep -q "give --output FILE" "$d/err" && ok "--html with --resume and no --output: exit 2" || bad "--html --resume without rows: rc $r"
 "$bin/bouncing_ball_sim" --at 3 2>"$d/err"; r=$?
 [ $r -eq 2 ] && ok "--at without an archive: exit 2" || bad "--at alone: rc $r"
 "$bin/bouncing_ball_sim" --archive-every 0 --archive "$d/x.par" 2>"$d/err"; r=$?

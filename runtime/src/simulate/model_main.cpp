@@ -15,12 +15,14 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <exception>
 #include <optional>
 #include <string>
 #include <sys/stat.h>
 #include <unistd.h>
+#include <vector>
 
 namespace phynjo::runtime {
 
@@ -533,8 +535,8 @@ void Simulator::check() {
         if (archive.empty() || resume) throw UsageError{"--at T reads the run's archive: --archive FILE --at T"};
         if (!events_output.empty() || !shapes_output.empty() || !html_output.empty() || archive_every || archive_seconds > 0)
             throw UsageError{"--at writes the state at T (to --output): not with --events, --shapes, --html or --archive-every"};
-    } else if (resume && !html_output.empty()) {
-        throw UsageError{"--html draws a whole run: not with --resume (the page of a resumed run would miss its first part)"};
+    } else if (resume && !html_output.empty() && output.empty()) {
+        throw UsageError{"--html with --resume draws the whole run from its rows: give --output FILE"};
     } else if (!archive.empty() && !resume && ::access(archive.c_str(), F_OK) == 0) {
         throw UsageError{"--archive: " + archive + " exists (continue its run with --resume " + archive + ")"};
     }
@@ -791,6 +793,9 @@ int Simulator::run() {
         recorder.emplace(options);
         recorder->add_model(sys);
     }
+    // a resumed run's page is drawn from all its rows at the end, the first part's too (with
+    // --every 1, the page of the run never stopped)
+    const bool html_from_rows = recorder && from && !at;
     std::string stop_reason;
     int status = 0;
     const bool with_events = sys.n_events > 0;
@@ -865,7 +870,7 @@ int Simulator::run() {
                 if (writer && k <= steps && snapshot_due(k)) snapshot(k);
                 if (k == total && k % every != 0) csv.row(w);
             }
-            if (recorder) recorder->capture(w);
+            if (recorder && !html_from_rows) recorder->capture(w);
             return true;
         };
         const long first = from ? static_cast<long>(from->step) + 1 : 1;
@@ -880,7 +885,23 @@ int Simulator::run() {
     }
     csv.close();
     if (recorder) { // what it recorded, also when the run failed or an event stopped it
-        recorder->capture_last(w);
+        if (html_from_rows) {
+            World shown = w;
+            std::FILE* rows = std::fopen(output.c_str(), "r");
+            std::vector<char> line(64 + 64 * (2 * sys.dof + 2 + sys.n_constraints));
+            for (bool header = true; rows && std::fgets(line.data(), static_cast<int>(line.size()), rows); header = false) {
+                if (header) continue;
+                char* at_char = line.data();
+                shown.time = std::strtod(at_char, &at_char);
+                for (std::size_t i = 0; i < 2 * sys.dof; ++i)
+                    shown.at(i < sys.dof ? kGQ : kGV, static_cast<Index>(i % sys.dof)) = std::strtod(at_char + 1, &at_char);
+                recorder->capture(shown);
+            }
+            if (rows) std::fclose(rows);
+            recorder->capture_last(shown);
+        } else {
+            recorder->capture_last(w);
+        }
         for (const EventRecord& r : monitor.log()) recorder->mark_event(r.time, sys.event_names[r.event]);
         if (monitor.stopped() && !monitor.log().empty() && stop_reason.empty())
             stop_reason = "stopped by the event " + sys.event_names[monitor.log().back().event] + " at t = " +
