@@ -15,8 +15,7 @@ set -euo pipefail
 sim=$1
 work=$(mktemp -d); trap 'rm -rf "$work"' EXIT
 run=(--t-end 2000 --dt 1e-3 --every 1000)
-secs() { local s e; s=$(date +%s.%N); "$@" >/dev/null 2>&1; e=$(date +%s.%N); awk -v a="$s" -v b="$e" 'BEGIN { printf "%.4f", b - a }'; }
-min() { awk -v a="$1" -v b="$2" 'BEGIN { print (b < a ? b : a) }'; }
+. "$(dirname "$0")/archive_util.sh"
 plain=1e9; archived=1e9; full=1e9; at=1e9
 for _ in 1 2 3 4 5; do
   plain=$(min "$plain" "$(secs "$sim" "${run[@]}" -o "$work/plain.csv")")
@@ -37,11 +36,8 @@ for _ in 1 2 3 4 5; do
   at=$(min "$at" "$(secs "$sim" "${run[@]}" --archive "$work/a.par" --at "$T" -o "$work/at.csv")")
 done
 [ "$(tail -1 "$work/to.csv")" = "$(tail -1 "$work/at.csv")" ] || { echo "FAIL: --at T differs from the run to T"; exit 1; }
-snaps=$(( $(tr -cd 'P' < "$work/a.par" | wc -c) ))
 echo "double pendulum, rk4, 2e6 steps of 1 ms, best of 5:"
 echo "  without the archive: $plain s; with it (the default: a snapshot a second of wall time, synced): $archived s"
 echo "  CSV of every step: $full_bytes bytes; an archive of 100 snapshots (every 20,000 steps): $archive_bytes bytes"
 echo "  run from 0 to T = $T s: $full s; --at $T from the archive: $at s"
-awk -v a="$plain" -v b="$archived" 'BEGIN { printf "ratio archive_overhead_double_pendulum = %.3f\n", a / b }'
-awk -v a="$full_bytes" -v b="$archive_bytes" 'BEGIN { printf "ratio archive_vs_full_output_double_pendulum = %.1f\n", a / b }'
-awk -v a="$full" -v b="$at" 'BEGIN { printf "ratio archive_seek_double_pendulum = %.1f\n", a / b }'
+ratios archive_overhead_double_pendulum archive_vs_full_output_double_pendulum archive_seek_double_pendulum

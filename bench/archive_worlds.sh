@@ -13,8 +13,7 @@
 set -euo pipefail
 aw=$1
 work=$(mktemp -d); trap 'rm -rf "$work"' EXIT
-secs() { local s e; s=$(date +%s.%N); "$@" >/dev/null 2>&1; e=$(date +%s.%N); awk -v a="$s" -v b="$e" 'BEGIN { printf "%.4f", b - a }'; }
-min() { awk -v a="$1" -v b="$2" 'BEGIN { print (b < a ? b : a) }'; }
+. "$(dirname "$0")/archive_util.sh"
 
 # ---- the pile: overhead at the default spacing -------------------------------------------------
 plain=1e9; archived=1e9
@@ -44,6 +43,4 @@ done
 echo "N-body, 512 bodies, 10^4 steps of 1 ms:"
 echo "  the full state every step: $full_bytes bytes; the archive (a snapshot per second of wall time): $archive_bytes bytes"
 echo "  run from 0 to T = $T s: $full s; --at $T from the archive: $at s"
-awk -v a="$plain" -v b="$archived" 'BEGIN { printf "ratio archive_overhead_pile = %.3f\n", a / b }'
-awk -v a="$full_bytes" -v b="$archive_bytes" 'BEGIN { printf "ratio archive_vs_full_output_nbody = %.0f\n", a / b }'
-awk -v a="$full" -v b="$at" 'BEGIN { printf "ratio archive_seek_nbody = %.1f\n", a / b }'
+ratios archive_overhead_pile archive_vs_full_output_nbody archive_seek_nbody
