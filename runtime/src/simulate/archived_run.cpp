@@ -183,7 +183,7 @@ void ArchivedRun::stepped(const World& world, const Stepper& stepper) {
 }
 
 void ArchivedRun::finish(const World& world, const Stepper& stepper) {
-    if (written_ == 0 || last_snapshot_ != step_) snapshot(world, stepper);
+    if (last_snapshot_ != step_) snapshot(world, stepper); // (a run continued and stopped at once adds none)
     for (auto& o : outputs_)
         if (o.file && std::fflush(o.file) != 0) throw ArchiveError(errno_text("cannot write " + o.path));
 }

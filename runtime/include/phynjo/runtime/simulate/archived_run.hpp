@@ -83,7 +83,8 @@ public:
     [[nodiscard]] std::FILE* output(std::size_t i) const { return outputs_.at(i).file; }
     /// Counts a step that left `world`; writes a snapshot when one is due (ArchiveSpacing).
     void stepped(const World& world, const Stepper& stepper);
-    /// A snapshot now (unless the last one is at this step), the outputs flushed and synced.
+    /// A snapshot now (unless the last one, or the one continued from, is at this step), the
+    /// outputs flushed and synced.
     void finish(const World& world, const Stepper& stepper);
     /// Flushes and closes the outputs (ArchiveError when that fails: a full disk); the
     /// destructor closes them too, but cannot report a failure.
