@@ -10,14 +10,8 @@ namespace phynjo::runtime {
 
 namespace {
 
-std::string join_fields(const World& w) {
-    std::string s;
-    for (const auto& f : w.layout().fields) s += (s.empty() ? "" : ",") + f;
-    return s;
-}
-
 ArchiveHeader with_world(ArchiveHeader header, const World& w) {
-    header.add("world.fields", join_fields(w));
+    header.add("world.fields", field_names(w));
     header.add("world.components", std::to_string(w.size()));
     return header;
 }
@@ -58,6 +52,18 @@ std::optional<ArchiveSpacing> ArchiveSpacing::parse(const std::string& text) {
     return ArchiveSpacing{k, 0};
 }
 
+bool SnapshotSchedule::due(std::uint64_t step) const {
+    if (spacing_.steps > 0) return step % spacing_.steps == 0;
+    if ((step & 63) != 0) return false;
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - since_).count() >= spacing_.seconds;
+}
+
+std::string field_names(const World& w) {
+    std::string s;
+    for (const auto& f : w.layout().fields) s += (s.empty() ? "" : ",") + f;
+    return s;
+}
+
 void save_clock(ArchiveBytes& out, const Stepper& stepper) {
     const Stepper::Clock c = stepper.clock();
     out.f64(c.origin).f64(c.dt).f64(c.last_time).u64(c.count);
@@ -74,12 +80,12 @@ void restore_clock(ArchiveReader& in, Stepper& stepper) {
 
 ArchivedRun::ArchivedRun(ArchiveWriter writer, ArchiveSpacing spacing, std::vector<Output> outputs, std::uint64_t step,
                          bool sync)
-    : writer_(std::move(writer)), spacing_(spacing), outputs_(std::move(outputs)), step_(step), last_snapshot_(step),
-      sync_(sync), since_(std::chrono::steady_clock::now()) {}
+    : writer_(std::move(writer)), schedule_(spacing), outputs_(std::move(outputs)), step_(step), last_snapshot_(step),
+      sync_(sync) {}
 
 ArchivedRun::ArchivedRun(ArchivedRun&& o) noexcept
-    : writer_(std::move(o.writer_)), spacing_(o.spacing_), outputs_(std::move(o.outputs_)), step_(o.step_),
-      last_snapshot_(o.last_snapshot_), written_(o.written_), sync_(o.sync_), since_(o.since_) {
+    : writer_(std::move(o.writer_)), schedule_(o.schedule_), outputs_(std::move(o.outputs_)), step_(o.step_),
+      last_snapshot_(o.last_snapshot_), written_(o.written_), sync_(o.sync_) {
     o.outputs_.clear();
 }
 
@@ -87,14 +93,13 @@ ArchivedRun& ArchivedRun::operator=(ArchivedRun&& o) noexcept {
     if (this != &o) {
         close_quietly();
         writer_ = std::move(o.writer_);
-        spacing_ = o.spacing_;
+        schedule_ = o.schedule_;
         outputs_ = std::move(o.outputs_);
         o.outputs_.clear();
         step_ = o.step_;
         last_snapshot_ = o.last_snapshot_;
         written_ = o.written_;
         sync_ = o.sync_;
-        since_ = o.since_;
     }
     return *this;
 }
@@ -171,15 +176,7 @@ std::uint64_t ArchivedRun::restore(const std::string& path, ArchiveHeader header
 }
 
 void ArchivedRun::stepped(const World& world, const Stepper& stepper) {
-    ++step_;
-    if (spacing_.steps > 0) {
-        if (step_ % spacing_.steps == 0) snapshot(world, stepper);
-        return;
-    }
-    // the clock is read every 64 steps only: a step of a small world is shorter than the read
-    if ((step_ & 63) != 0) return;
-    const auto now = std::chrono::steady_clock::now();
-    if (std::chrono::duration<double>(now - since_).count() >= spacing_.seconds) snapshot(world, stepper);
+    if (schedule_.due(++step_)) snapshot(world, stepper);
 }
 
 void ArchivedRun::finish(const World& world, const Stepper& stepper) {
@@ -210,7 +207,7 @@ void ArchivedRun::snapshot(const World& world, const Stepper& stepper) {
     writer_.write(snap);
     last_snapshot_ = step_;
     ++written_;
-    since_ = std::chrono::steady_clock::now();
+    schedule_.taken();
 }
 
 } // namespace phynjo::runtime

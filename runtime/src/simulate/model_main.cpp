@@ -12,7 +12,6 @@
 
 #include <algorithm>
 #include <cerrno>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -668,10 +667,7 @@ ArchiveHeader Simulator::archive_header(const LagrangianSystem& sys, const World
     header.add("every", std::to_string(every)).add("archive-every", archive_every > 0 ? std::to_string(archive_every) : seconds);
     header.add("output", output.empty() ? "(standard output)" : output);
     header.add("shapes", shapes_output.empty() ? "(none)" : shapes_output);
-    // the world's field names, for a reader of the file alone (phynjo-archive extract)
-    std::string fields;
-    for (const auto& f : w0.layout().fields) fields += (fields.empty() ? "" : ",") + f;
-    header.add("world.fields", fields);
+    header.add("world.fields", field_names(w0)); // for a reader of the file alone (phynjo-archive extract)
     return header;
 }
 
@@ -818,17 +814,13 @@ int Simulator::run() {
         settings.rtol = rtol;
         settings.atol = atol;
         const std::unique_ptr<RunIntegrator> run = entry->make(sys, w, settings, with_events);
-        // a snapshot after every archive_every-th step: the world, what the integrator, the
-        // monitor and the output carry to the next step (the rows up to it on the disk first)
-        // due after every archive_every-th step, or (by wall time) after the first step that ends
-        // archive_seconds after the last snapshot — the clock read every 64 steps — and at the
-        // last whole step (a finished run continues from there)
-        auto since = std::chrono::steady_clock::now();
+        // a snapshot when one is due (SnapshotSchedule: every archive_every-th step, or by wall
+        // time and then also at the last whole step, from which a finished run continues): the
+        // world, what the integrator, the monitor and the output carry to the next step (the
+        // rows up to it on the disk first)
+        SnapshotSchedule schedule(ArchiveSpacing{static_cast<std::uint64_t>(std::max(0L, archive_every)), archive_seconds});
         auto snapshot_due = [&](long k) {
-            if (archive_every > 0) return k % archive_every == 0;
-            if (k == steps) return true;
-            if (k % 64 != 0) return false;
-            return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count() >= archive_seconds;
+            return schedule.due(static_cast<std::uint64_t>(k)) || (archive_every <= 0 && k == steps);
         };
         auto snapshot = [&](long k) {
             ArchiveSnapshot snap;
@@ -844,7 +836,7 @@ int Simulator::run() {
                              {"output", csv.save(true)}};
             writer->write(snap);
             run->restart_at_snapshot();
-            since = std::chrono::steady_clock::now();
+            schedule.taken();
         };
         if (from) {
             ArchiveReader integrator_state(from->section("integrator"), "the snapshot's integrator state");

@@ -37,6 +37,25 @@ struct ArchiveSpacing {
     static std::optional<ArchiveSpacing> parse(const std::string& text);
 };
 
+/// When a run's next snapshot is due (ArchiveSpacing): after every K-th step, or after the
+/// first step that ends `seconds` of wall time after the last snapshot (or the start) — the
+/// clock read every 64 steps only, a small world's step being shorter than the read.
+class SnapshotSchedule {
+public:
+    explicit SnapshotSchedule(ArchiveSpacing spacing) : spacing_(spacing), since_(std::chrono::steady_clock::now()) {}
+    /// Whether a snapshot is due after step `step` (counted from the run's start).
+    [[nodiscard]] bool due(std::uint64_t step) const;
+    /// A snapshot was written now: the wall time counts from here.
+    void taken() { since_ = std::chrono::steady_clock::now(); }
+
+private:
+    ArchiveSpacing spacing_;
+    std::chrono::steady_clock::time_point since_;
+};
+
+/// The names of a world's fields, comma-separated (an archive header's `world.fields`).
+[[nodiscard]] std::string field_names(const World& w);
+
 /// A Stepper's clock as a snapshot's section "clock" (file comment).
 void save_clock(ArchiveBytes& out, const Stepper& stepper);
 void restore_clock(ArchiveReader& in, Stepper& stepper);
@@ -102,11 +121,10 @@ private:
     void close_quietly() noexcept;
 
     ArchiveWriter writer_;
-    ArchiveSpacing spacing_;
+    SnapshotSchedule schedule_;
     std::vector<Output> outputs_;
     std::uint64_t step_ = 0, last_snapshot_ = 0, written_ = 0;
     bool sync_ = true;
-    std::chrono::steady_clock::time_point since_;
 };
 
 } // namespace phynjo::runtime
