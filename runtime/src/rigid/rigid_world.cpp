@@ -4,6 +4,7 @@
 
 #include <Eigen/LU>
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -30,6 +31,9 @@ void check_unit(const Quaternion& q, std::string_view label) {
 World make_rigid_world(const Registry& components, const std::vector<RigidBody>& bodies,
                        const std::vector<RigidInit>& init, const std::vector<std::string>& extra_fields) {
     std::vector<std::string> fields(kRigidFields.begin(), kRigidFields.end());
+    const bool shaped =
+        std::any_of(bodies.begin(), bodies.end(), [](const RigidBody& b) { return b.shape != Shape::sphere; });
+    if (shaped) fields.insert(fields.end(), kShapeFields.begin(), kShapeFields.end());
     fields.insert(fields.end(), extra_fields.begin(), extra_fields.end());
     if (bodies.size() != components.size())
         throw std::invalid_argument("make_rigid_world: " + std::to_string(bodies.size()) + " bodies for " +
@@ -58,6 +62,11 @@ World make_rigid_world(const Registry& components, const std::vector<RigidBody>&
         w.at(kInvIxz, i) = 0.5 * (inv(0, 2) + inv(2, 0));
         w.at(kInvIyz, i) = 0.5 * (inv(1, 2) + inv(2, 1));
         w.at(kRadius, i) = b.radius;
+        if (shaped) {
+            const auto f = static_cast<FieldId>(kRigidFieldCount);
+            w.at(f, i) = static_cast<double>(b.shape);
+            for (int k = 0; k < 3; ++k) w.at(f + 1 + k, i) = b.half_extents(k);
+        }
         const RigidInit s = init.empty() ? RigidInit{} : init[i];
         if (!s.position.allFinite() || !s.velocity.allFinite() || !s.angular_velocity.allFinite())
             throw InvalidBody("initial state of '" + label + "' is not finite");
@@ -68,6 +77,26 @@ World make_rigid_world(const Registry& components, const std::vector<RigidBody>&
         set_orientation(w, i, s.orientation);
     }
     return w;
+}
+
+int shape_field(const Layout& layout) {
+    const std::size_t f = kRigidFieldCount;
+    if (layout.fields.size() < f + kShapeFields.size()) return -1;
+    for (std::size_t k = 0; k < kShapeFields.size(); ++k)
+        if (layout.fields[f + k] != kShapeFields[k]) return -1;
+    return static_cast<int>(f);
+}
+
+Shape shape_of(const World& w, Index c) {
+    const int f = shape_field(w.layout());
+    return f < 0 ? Shape::sphere : static_cast<Shape>(static_cast<int>(w.at(static_cast<FieldId>(f), c)));
+}
+
+Eigen::Vector3d half_extents(const World& w, Index c) {
+    const int f = shape_field(w.layout());
+    if (f < 0) return Eigen::Vector3d::Zero();
+    const auto h = static_cast<FieldId>(f + 1);
+    return {w.at(h, c), w.at(h + 1, c), w.at(h + 2, c)};
 }
 
 ComponentSet all_bodies(const World& w) { return ComponentSet::range(0, static_cast<Index>(w.size())); }

@@ -31,6 +31,7 @@
 #include "phynjo/runtime/collision/broad_phase.hpp"
 #include "phynjo/runtime/collision/collision_manager.hpp"
 #include "phynjo/runtime/collision/narrow_phase.hpp"
+#include "phynjo/runtime/collision/manifold.hpp"
 
 #include "phynjo/runtime/contact/contact_solver.hpp"
 #include "phynjo/runtime/contact/scene.hpp"

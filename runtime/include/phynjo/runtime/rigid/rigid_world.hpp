@@ -38,8 +38,20 @@ static_assert(kRigidFields[kX] == "x" && kRigidFields[kMass] == "m" && kRigidFie
               kRigidFields[kQW] == "qw" && kRigidFields[kInvMass] == "inv_m" && kRigidFields[kIxx] == "Ixx" &&
               kRigidFields[kInvIxx] == "iIxx" && kRigidFields[kRadius] == "radius");
 
+/// The fields a rigid world holds after kRigidFields when any of its bodies is a box or a
+/// capsule (a world of spheres has none, so its layout and hashes stay those of spheres):
+/// shape (Shape as a number: 0 sphere, 1 box, 2 capsule) and hx, hy, hz (RigidBody::half_extents).
+inline constexpr std::array<std::string_view, 4> kShapeFields{"shape", "hx", "hy", "hz"};
+/// The id of the field "shape" in `layout` (hx, hy, hz follow it), or −1 for a world of spheres.
+int shape_field(const Layout& layout);
+/// The shape of body c (a sphere in a world without shape fields).
+Shape shape_of(const World& w, Index c);
+/// RigidBody::half_extents of body c, m (zero in a world without shape fields).
+Eigen::Vector3d half_extents(const World& w, Index c);
+
 /// A rigid world over `components` with one body each (and optional initial states, else
-/// at rest at the origin), followed by `extra_fields` (e.g. contact_cache_fields()).
+/// at rest at the origin), with kShapeFields when a body is not a sphere, followed by
+/// `extra_fields` (e.g. contact_cache_fields()).
 /// Validates every body and orientation: throws InvalidBody naming the component.
 World make_rigid_world(const Registry& components, const std::vector<RigidBody>& bodies,
                        const std::vector<RigidInit>& init = {}, const std::vector<std::string>& extra_fields = {});

@@ -1,0 +1,184 @@
+// Box–box manifolds: separating axes, then the incident face clipped against the reference
+// face (manifold.hpp). The point reduction is shared with box_plane (manifold_detail.hpp).
+#include "manifold_detail.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace phynjo::runtime {
+
+namespace {
+
+using manifold_detail::keep_four;
+
+/// Clipping lines: the incident face's edges 0..3 and the reference face's sides 4..7; every
+/// point of the clipped polygon lies where two of them meet, and that pair names it.
+std::uint32_t line_pair(int l1, int l2) {
+    const int lo = std::min(l1, l2), hi = std::max(l1, l2);
+    return static_cast<std::uint32_t>(lo * 8 + hi);
+}
+
+struct ClipVertex {
+    Eigen::Vector3d p;
+    int out_line;      // the line the edge from this vertex to the next lies on
+    std::uint32_t id;  // line_pair of the two lines meeting here
+};
+
+/// Sutherland–Hodgman against one side plane {p : u·(p − c) ≤ h}, named `line`.
+int clip(const ClipVertex* in, int n, ClipVertex* out, const Eigen::Vector3d& u, const Eigen::Vector3d& c, double h,
+         int line) {
+    int m = 0;
+    for (int k = 0; k < n; ++k) {
+        const ClipVertex& p = in[k];
+        const ClipVertex& q = in[(k + 1) % n];
+        const double dp = u.dot(p.p - c) - h, dq = u.dot(q.p - c) - h;
+        const bool pin = dp <= 0, qin = dq <= 0;
+        if (pin) out[m++] = p;
+        if (pin != qin) {
+            const double t = dp / (dp - dq);
+            const Eigen::Vector3d x = p.p + t * (q.p - p.p);
+            // Leaving: the new edge runs along the side plane; entering: along p's edge.
+            out[m++] = ClipVertex{x, pin ? line : p.out_line, line_pair(p.out_line, line)};
+        }
+    }
+    return m;
+}
+
+struct Axis {
+    double sep = -INFINITY;
+    int index = -1;
+};
+
+} // namespace
+
+void box_box(const OBB& a, const OBB& b, double margin, Manifold& out) {
+    out.count = 0;
+    const Eigen::Matrix3d ra = a.rotation.to_matrix(), rb = b.rotation.to_matrix();
+    const Eigen::Vector3d& ha = a.half;
+    const Eigen::Vector3d& hb = b.half;
+    const Eigen::Vector3d d = b.center - a.center; // from a to b
+    const Eigen::Matrix3d c = ra.transpose() * rb;  // c(i, j) = a_i · b_j
+    const Eigen::Matrix3d ac = c.cwiseAbs();
+
+    // Face axes of a, then of b: separation |d·u| − r_a(u) − r_b(u).
+    Axis fa, fb, edge;
+    for (int i = 0; i < 3; ++i) {
+        const double s = std::abs(d.dot(ra.col(i))) - ha(i) - hb.dot(ac.row(i));
+        if (s > fa.sep) fa = {s, i};
+    }
+    if (fa.sep > margin) return;
+    for (int j = 0; j < 3; ++j) {
+        const double s = std::abs(d.dot(rb.col(j))) - hb(j) - ha.dot(ac.col(j));
+        if (s > fb.sep) fb = {s, j};
+    }
+    if (fb.sep > margin) return;
+    Eigen::Vector3d edge_axis = Eigen::Vector3d::Zero();
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+            Eigen::Vector3d l = ra.col(i).cross(rb.col(j));
+            const double len = l.norm();
+            if (len < 1e-6) continue; // parallel edges: the face axes cover them
+            l /= len;
+            double r = 0;
+            for (int k = 0; k < 3; ++k) r += ha(k) * std::abs(l.dot(ra.col(k))) + hb(k) * std::abs(l.dot(rb.col(k)));
+            const double s = std::abs(d.dot(l)) - r;
+            if (s > edge.sep) {
+                edge = {s, 3 * i + j};
+                edge_axis = l;
+            }
+        }
+    if (edge.sep > margin) return;
+
+    // Prefer a's faces to b's and faces to edges unless the other separates clearly more
+    // (Gregorius 2015): resting boxes keep one reference face from step to step.
+    const double tolerance = 2e-3 * std::min(ha.minCoeff(), hb.minCoeff());
+    const bool ref_b = fb.sep > 0.98 * fa.sep + tolerance;
+    const double face_sep = ref_b ? fb.sep : fa.sep;
+    if (edge.index >= 0 && edge.sep > 0.9 * face_sep + tolerance) {
+        // Edge–edge: the supporting edge of a along l (oriented from a to b) and of b along −l.
+        const int i = edge.index / 3, j = edge.index % 3;
+        const Eigen::Vector3d l = d.dot(edge_axis) < 0 ? Eigen::Vector3d(-edge_axis) : edge_axis;
+        Eigen::Vector3d pa = a.center, pb = b.center;
+        std::uint32_t ea = static_cast<std::uint32_t>(i), eb = static_cast<std::uint32_t>(j);
+        for (int k = 0, bit = 2; k < 3; ++k) {
+            if (k == i) continue;
+            const bool plus = l.dot(ra.col(k)) > 0;
+            pa += (plus ? ha(k) : -ha(k)) * ra.col(k);
+            ea |= (plus ? 1u : 0u) << bit++;
+        }
+        for (int k = 0, bit = 2; k < 3; ++k) {
+            if (k == j) continue;
+            const bool plus = l.dot(rb.col(k)) < 0;
+            pb += (plus ? hb(k) : -hb(k)) * rb.col(k);
+            eb |= (plus ? 1u : 0u) << bit++;
+        }
+        // Closest points of the segments pa + s u, |s| ≤ ha_i, and pb + t v, |t| ≤ hb_j (unit u, v).
+        const Eigen::Vector3d u = ra.col(i), v = rb.col(j), r = pa - pb;
+        const double uv = u.dot(v), ur = u.dot(r), vr = v.dot(r);
+        const double den = 1 - uv * uv;
+        double s = den > 1e-12 ? std::clamp((uv * vr - ur) / den, -ha(i), ha(i)) : 0.0;
+        double t = std::clamp(uv * s + vr, -hb(j), hb(j));
+        s = std::clamp(uv * t - ur, -ha(i), ha(i));
+        ManifoldPoint& p = out.points[0];
+        p.on_a = pa + s * u;
+        p.on_b = pb + t * v;
+        out.normal = -l;
+        p.separation = (p.on_a - p.on_b).dot(out.normal);
+        p.feature = (1u << 13) | (eb << 4) | ea;
+        out.count = 1;
+        return;
+    }
+
+    // Face contact: the reference box R, its face `axis` facing the incident box I.
+    const OBB& R = ref_b ? b : a;
+    const OBB& I = ref_b ? a : b;
+    const Eigen::Matrix3d& rr = ref_b ? rb : ra;
+    const Eigen::Matrix3d& ri = ref_b ? ra : rb;
+    const int axis = ref_b ? fb.index : fa.index;
+    const Eigen::Vector3d towards = ref_b ? Eigen::Vector3d(-d) : d; // from R to I
+    const bool ref_plus = towards.dot(rr.col(axis)) >= 0;
+    const Eigen::Vector3d nref = ref_plus ? rr.col(axis) : Eigen::Vector3d(-rr.col(axis));
+    // The incident face: the face of I whose outward normal is most anti-parallel to nref.
+    int inc = 0;
+    double best = -1;
+    for (int k = 0; k < 3; ++k) {
+        const double x = std::abs(nref.dot(ri.col(k)));
+        if (x > best) best = x, inc = k;
+    }
+    const bool inc_plus = nref.dot(ri.col(inc)) < 0;
+    const int iu = (inc + 1) % 3, iv = (inc + 2) % 3;
+    const Eigen::Vector3d fc = I.center + (inc_plus ? I.half(inc) : -I.half(inc)) * ri.col(inc);
+    const Eigen::Vector3d eu = I.half(iu) * ri.col(iu), ev = I.half(iv) * ri.col(iv);
+    std::array<ClipVertex, 8> poly{}, next{};
+    const Eigen::Vector3d corners[4] = {fc + eu + ev, fc - eu + ev, fc - eu - ev, fc + eu - ev};
+    for (int k = 0; k < 4; ++k) poly[static_cast<std::size_t>(k)] = {corners[k], k, line_pair((k + 3) % 4, k)};
+    int n = 4;
+    // The four side planes of the reference face.
+    const int su = (axis + 1) % 3, sv = (axis + 2) % 3;
+    const int sides[4] = {su, su, sv, sv};
+    for (int k = 0; k < 4 && n > 0; ++k) {
+        const Eigen::Vector3d u = (k % 2 == 0 ? 1.0 : -1.0) * rr.col(sides[k]);
+        n = clip(poly.data(), n, next.data(), u, R.center, R.half(sides[k]), 4 + k);
+        std::swap(poly, next);
+    }
+    const Eigen::Vector3d face_centre = R.center + R.half(axis) * nref;
+    const std::uint32_t faces = (ref_b ? 1u << 12 : 0u) | static_cast<std::uint32_t>(2 * axis + (ref_plus ? 1 : 0)) << 9 |
+                                static_cast<std::uint32_t>(2 * inc + (inc_plus ? 1 : 0)) << 6;
+    std::array<ManifoldPoint, 8> found{};
+    int m = 0;
+    for (int k = 0; k < n; ++k) {
+        const Eigen::Vector3d& x = poly[static_cast<std::size_t>(k)].p;
+        const double s = nref.dot(x - face_centre);
+        if (s >= margin) continue;
+        ManifoldPoint& p = found[static_cast<std::size_t>(m++)];
+        const Eigen::Vector3d on_ref = x - s * nref;
+        p.on_a = ref_b ? x : on_ref;
+        p.on_b = ref_b ? on_ref : x;
+        p.separation = s;
+        p.feature = faces | poly[static_cast<std::size_t>(k)].id;
+    }
+    out.normal = ref_b ? nref : Eigen::Vector3d(-nref);
+    keep_four(found.data(), m, out);
+}
+
+} // namespace phynjo::runtime
