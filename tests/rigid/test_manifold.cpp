@@ -86,9 +86,11 @@ OBB box(const Eigen::Vector3d& c, const Eigen::Vector3d& h, const Quaternion& q 
     return b;
 }
 
+/// The points' feature ids, sorted (warm starting finds a point by its id, whatever its place).
 std::vector<std::uint32_t> features(const Manifold& m) {
     std::vector<std::uint32_t> f;
     for (int k = 0; k < m.count; ++k) f.push_back(m.points[static_cast<std::size_t>(k)].feature);
+    std::sort(f.begin(), f.end());
     return f;
 }
 
@@ -154,7 +156,8 @@ TEST_CASE("box-box manifolds agree with a brute-force separation oracle on 10,00
 }
 
 // Catches: a clipped point dropped or a side plane clipping the wrong half, the reduction
-// keeping three points of a square, feature ids that change while nothing moves.
+// keeping three points of a square, feature ids that change while nothing moves or as equal
+// stacked boxes jiggle (named after the lines that happen to meet at a point).
 TEST_CASE("a box resting on a box: four points at its corners, the same features as it jiggles", "[collision][manifold]") {
     const OBB ground = box({0, -0.5, 0}, {2, 0.5, 2});
     const double depth = 1e-4;
@@ -171,13 +174,27 @@ TEST_CASE("a box resting on a box: four points at its corners, the same features
     }
     CHECK(corners == std::set<std::pair<double, double>>{{-0.1, -0.5}, {-0.1, 0.1}, {0.7, -0.5}, {0.7, 0.1}});
     const auto ids = features(m);
-    // Nudged by 1e-4 rad and 10 µm: the same features in the same order.
+    // Nudged by 1e-4 rad and 10 µm: the same features.
     const OBB nudged = box({0.30001, 0.25 - depth, -0.2}, {0.4, 0.25, 0.3},
                            Quaternion::from_axis_angle(Eigen::Vector3d(1, 2, 3).normalized(), 1e-4));
     Manifold n;
     box_box(nudged, ground, 0.01, n);
     INFO("features " << ::Catch::Detail::stringify(ids));
     CHECK(features(n) == ids);
+    // Equal boxes stacked edge to edge: every point is at once an incident vertex, a clipped
+    // point and a reference corner, and a micrometre decides which; its id must not change.
+    const OBB lower = box({0, 0.25, 0}, {0.25, 0.25, 0.25});
+    Manifold stacked;
+    box_box(box({0, 0.75 - depth, 0}, {0.25, 0.25, 0.25}), lower, 0.01, stacked);
+    REQUIRE(stacked.count == 4);
+    for (const Eigen::Vector3d& jiggle : {Eigen::Vector3d(1e-6, 0, 0), Eigen::Vector3d(-1e-6, 0, 1e-6),
+                                          Eigen::Vector3d(0, 0, -1e-6), Eigen::Vector3d(1e-6, 0, -1e-6)}) {
+        Manifold j;
+        box_box(box(Eigen::Vector3d(0, 0.75 - depth, 0) + jiggle, {0.25, 0.25, 0.25}), lower, 0.01, j);
+        INFO("jiggled by " << jiggle.transpose());
+        REQUIRE(j.count == 4);
+        CHECK(features(j) == features(stacked));
+    }
     // Seen from the ground: the same contact, the normal reversed.
     Manifold g;
     box_box(ground, crate, 0.01, g);

@@ -164,19 +164,36 @@ void box_box(const OBB& a, const OBB& b, double margin, Manifold& out) {
     const Eigen::Vector3d face_centre = R.center + R.half(axis) * nref;
     const std::uint32_t faces = (ref_b ? 1u << 12 : 0u) | static_cast<std::uint32_t>(2 * axis + (ref_plus ? 1 : 0)) << 9 |
                                 static_cast<std::uint32_t>(2 * inc + (inc_plus ? 1 : 0)) << 6;
+    // A point's id: the corner of the reference face and the vertex of the incident face
+    // nearest to it (the quadrants it lies in), as Box2D pairs the vertices of its clipped
+    // edges. It does not change when a point that was an incident vertex becomes a clipped
+    // one or a reference corner: equal boxes stacked edge to edge flip between the three at
+    // every jiggle, and their warm start must not. Two points in one pair of quadrants (rare:
+    // a turned face) add the lines that meet there.
     std::array<ManifoldPoint, 8> found{};
+    std::array<std::uint32_t, 8> lines{};
     int m = 0;
     for (int k = 0; k < n; ++k) {
         const Eigen::Vector3d& x = poly[static_cast<std::size_t>(k)].p;
         const double s = nref.dot(x - face_centre);
         if (s >= margin) continue;
-        ManifoldPoint& p = found[static_cast<std::size_t>(m++)];
+        ManifoldPoint& p = found[static_cast<std::size_t>(m)];
         const Eigen::Vector3d on_ref = x - s * nref;
         p.on_a = ref_b ? x : on_ref;
         p.on_b = ref_b ? on_ref : x;
         p.separation = s;
-        p.feature = faces | poly[static_cast<std::size_t>(k)].id;
+        const std::uint32_t qr = (rr.col(su).dot(x - R.center) >= 0 ? 1u : 0u) | (rr.col(sv).dot(x - R.center) >= 0 ? 2u : 0u);
+        const std::uint32_t qi = (ri.col(iu).dot(x - fc) >= 0 ? 1u : 0u) | (ri.col(iv).dot(x - fc) >= 0 ? 2u : 0u);
+        p.feature = faces | qr << 2 | qi;
+        lines[static_cast<std::size_t>(m)] = poly[static_cast<std::size_t>(k)].id;
+        ++m;
     }
+    for (int k = 0; k < m; ++k)
+        for (int j = 0; j < k; ++j)
+            if ((found[static_cast<std::size_t>(j)].feature & 0x1fffu) == (found[static_cast<std::size_t>(k)].feature & 0x1fffu)) {
+                found[static_cast<std::size_t>(k)].feature |= 1u << 20 | lines[static_cast<std::size_t>(k)] << 14;
+                break;
+            }
     out.normal = ref_b ? nref : Eigen::Vector3d(-nref);
     keep_four(found.data(), m, out);
 }

@@ -5,7 +5,11 @@
 #include "phynjo/runtime/core/errors.hpp"
 #include "phynjo/runtime/rigid/rigid_world.hpp"
 
+#include <Eigen/Eigenvalues>
+
+
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -53,6 +57,12 @@ void Solver::gather(const World& w) {
         b.r = w.at(kRadius, i);
         if (!std::isfinite(b.p[0] + b.p[1] + b.p[2] + b.v[0] + b.v[1] + b.v[2] + b.w[0] + b.w[1] + b.w[2]))
             throw Error("contact: the position or velocity of '" + layout_->components.label(i) + "' is not finite");
+        if (shape_field_ >= 0) {
+            const auto f = static_cast<FieldId>(shape_field_);
+            b.shape = static_cast<Shape>(static_cast<int>(w.at(f, i)));
+            for (int j = 0; j < 3; ++j) b.h[j] = w.at(f + 1 + static_cast<FieldId>(j), i);
+            b.q[0] = w.at(kQW, i), b.q[1] = w.at(kQX, i), b.q[2] = w.at(kQY, i), b.q[3] = w.at(kQZ, i);
+        }
         const bool isotropic = w.at(kInvIxy, i) == 0 && w.at(kInvIxz, i) == 0 && w.at(kInvIyz, i) == 0 &&
                                w.at(kInvIxx, i) == w.at(kInvIyy, i) && w.at(kInvIxx, i) == w.at(kInvIzz, i);
         if (isotropic) { // R I⁻¹ Rᵀ = I⁻¹
@@ -69,7 +79,49 @@ void Solver::gather(const World& w) {
     bodies_[n] = Body{}; // the static body: no velocity, zero inverse mass and inertia
 }
 
+void Solver::anchors(const Row& c, double* xa, double* xb) const {
+    const Body& A = bodies_[c.a];
+    const Eigen::Vector3d a = Quaternion{A.q[0], A.q[1], A.q[2], A.q[3]}.rotate(Eigen::Vector3d(c.la[0], c.la[1], c.la[2]));
+    for (int k = 0; k < 3; ++k) xa[k] = A.p[k] + a(k);
+    if (c.plane >= 0) {
+        for (int k = 0; k < 3; ++k) xb[k] = c.lb[k];
+        return;
+    }
+    const Body& B = bodies_[c.b];
+    const Eigen::Vector3d b = Quaternion{B.q[0], B.q[1], B.q[2], B.q[3]}.rotate(Eigen::Vector3d(c.lb[0], c.lb[1], c.lb[2]));
+    for (int k = 0; k < 3; ++k) xb[k] = B.p[k] + b(k);
+}
+
+void Solver::apply_point(const Row& c, const double* p, std::vector<Body>& B) const {
+    Body& A = B[c.a];
+    Body& Bb = B[c.b];
+    double u[3], i[3];
+    for (int k = 0; k < 3; ++k) {
+        A.v[k] += A.im * p[k];
+        Bb.v[k] -= Bb.im * p[k];
+    }
+    cross(c.xa, p, u);
+    mul_sym(A.ii, u, i);
+    for (int k = 0; k < 3; ++k) A.w[k] += i[k];
+    cross(c.xb, p, u);
+    mul_sym(Bb.ii, u, i);
+    for (int k = 0; k < 3; ++k) Bb.w[k] -= i[k];
+}
+
+double Solver::cache_key(const Row& c) const {
+    const double partner = c.plane >= 0 ? -(c.plane + 1.0) : ids_[c.b] + 1.0;
+    if (!c.point) return partner;
+    const double f = 4294967296.0 * c.feature;
+    return partner > 0 ? partner + f : partner - f;
+}
+
 double Solver::geometry(const Row& c, double* n) const {
+    if (c.point) { // the manifold's normal, fixed for the step; the separation at the anchors
+        double xa[3], xb[3];
+        anchors(c, xa, xb);
+        if (n != c.n) n[0] = c.n[0], n[1] = c.n[1], n[2] = c.n[2];
+        return (xa[0] - xb[0]) * c.n[0] + (xa[1] - xb[1]) * c.n[1] + (xa[2] - xb[2]) * c.n[2];
+    }
     const Body& A = bodies_[c.a];
     if (c.plane >= 0) {
         const Plane& pl = planes_[static_cast<std::size_t>(c.plane)];
@@ -93,14 +145,63 @@ void Solver::correct_positions() {
     const std::size_t nb = ids_.size();
     for (int it = 0; it < options_.position_iterations; ++it) {
         if (jacobi) delta_.assign(3 * nb, 0.0);
+        if (jacobi && shape_field_ >= 0) turn_.assign(3 * nb, 0.0);
         bool any = false;
-        for (Row& c : rows_) {
+        std::size_t block = 0;
+        for (std::size_t i = 0; i < rows_.size(); ++i) {
+            Row& c = rows_[i];
+            if (!jacobi && c.point && c.block_size >= 2) { // a manifold's points together
+                if (it == 0 && block == pos_blocks_.size()) pos_blocks_.push_back(Block{});
+                if (it == 0) pos_blocks_[block].set_known = false;
+                any = correct_block(i, pos_blocks_[block++]) || any;
+                i += c.block_size - 1u;
+                continue;
+            }
             Body& A = bodies_[c.a];
             double n[3];
             const double sep = geometry(c, n);
             const double depth = -sep - slop;
             if (depth <= 0) continue;
             Body& Bb = bodies_[c.b];
+            if (c.point) {
+                // At the contact point: K = 1/m_a + 1/m_b + (r_a × n)·I_a⁻¹(r_a × n) + (b alike),
+                // P = β depth / K n, moving and turning both bodies.
+                any = true;
+                double xa[3], xb[3], ra[3], rb[3], ua[3], ub[3];
+                anchors(c, xa, xb);
+                for (int k = 0; k < 3; ++k) {
+                    const double mid = 0.5 * (xa[k] + xb[k]);
+                    ra[k] = mid - A.p[k];
+                    rb[k] = mid - Bb.p[k];
+                }
+                cross(ra, n, ua);
+                cross(rb, n, ub);
+                const double sa = 1, sb = c.plane >= 0 ? 0 : 1;
+                const double k_inv = A.im + sb * Bb.im + quad(A.ii, ua) + sb * quad(Bb.ii, ub);
+                const double corr = beta * depth / k_inv;
+                double ta[3], tb[3];
+                mul_sym(A.ii, ua, ta);
+                mul_sym(Bb.ii, ub, tb);
+                for (int k = 0; k < 3; ++k) ta[k] *= corr * sa, tb[k] *= -corr * sb;
+                if (jacobi) {
+                    for (int k = 0; k < 3; ++k) {
+                        delta_[3 * c.a + k] += corr * A.im * n[k];
+                        turn_[3 * c.a + k] += ta[k];
+                        if (c.plane < 0) {
+                            delta_[3 * c.b + k] -= corr * Bb.im * n[k];
+                            turn_[3 * c.b + k] += tb[k];
+                        }
+                    }
+                } else {
+                    for (int k = 0; k < 3; ++k) {
+                        A.p[k] += corr * A.im * n[k];
+                        Bb.p[k] -= corr * Bb.im * n[k];
+                    }
+                    rotate_by(A.q, ta);
+                    if (c.plane < 0) rotate_by(Bb.q, tb);
+                }
+                continue;
+            }
             if (has_model(c)) {
                 const double wsum = linear_inverse_mass(A, n) + linear_inverse_mass(Bb, n);
                 if (!(wsum > kSingularInverseMass * (inverse_mass_scale(A) + inverse_mass_scale(Bb)))) continue;
@@ -126,6 +227,9 @@ void Solver::correct_positions() {
         if (jacobi) {
             for (std::size_t b = 0; b < n_rigid_; ++b)
                 for (int k = 0; k < 3; ++k) bodies_[b].p[k] += delta_[3 * b + k];
+            if (shape_field_ >= 0)
+                for (std::size_t b = 0; b < n_rigid_; ++b)
+                    if (turn_[3 * b] != 0 || turn_[3 * b + 1] != 0 || turn_[3 * b + 2] != 0) rotate_by(bodies_[b].q, &turn_[3 * b]);
             for (std::size_t b = n_rigid_; b < nb; ++b)
                 if (delta_[3 * b] != 0 || delta_[3 * b + 1] != 0 || delta_[3 * b + 2] != 0)
                     model_impulse(bodies_[b], &delta_[3 * b], bodies_, true);
@@ -167,6 +271,32 @@ void Solver::setup_rows(double dt) {
         const Body& A = bodies_[c.a];
         const Body& B = bodies_[c.b];
         const double sa = jacobi ? split_[c.a] : 1.0, sb = jacobi ? split_[c.b] : 1.0;
+        if (c.point) {
+            double xa[3], xb[3];
+            anchors(c, xa, xb);
+            for (int k = 0; k < 3; ++k) {
+                const double mid = 0.5 * (xa[k] + xb[k]);
+                c.xa[k] = mid - A.p[k];
+                c.xb[k] = c.plane >= 0 ? 0.0 : mid - B.p[k];
+            }
+            c.ra = c.rb = 0;
+            c.sep = (xa[0] - xb[0]) * c.n[0] + (xa[1] - xb[1]) * c.n[1] + (xa[2] - xb[2]) * c.n[2];
+            tangent_basis(c.n, c.t1, c.t2);
+            auto inverse_mass = [&](const double* u) {
+                double ua[3], ub[3];
+                cross(c.xa, u, ua);
+                cross(c.xb, u, ub);
+                return sa * (A.im + quad(A.ii, ua)) + sb * (B.im + quad(B.ii, ub));
+            };
+            c.mn = 1 / inverse_mass(c.n);
+            c.mt1 = 1 / inverse_mass(c.t1);
+            c.mt2 = 1 / inverse_mass(c.t2);
+            c.bias = -std::max(c.sep, 0.0) / dt;
+            double vt1, vt2;
+            tangent_velocity(c, A, B, vt1, vt2);
+            c.mu = curve(material_.friction, std::sqrt(vt1 * vt1 + vt2 * vt2), false);
+            continue;
+        }
         c.ra = A.r;
         c.rb = c.plane >= 0 ? 0.0 : B.r;
         c.sep = geometry(c, c.n);
@@ -195,9 +325,87 @@ void Solver::setup_rows(double dt) {
         tangent_velocity(c, A, B, vt1, vt2);
         c.mu = curve(material_.friction, std::sqrt(vt1 * vt1 + vt2 * vt2), false);
     }
+    setup_blocks();
+}
+
+void Solver::setup_blocks() {
+    // Each manifold of 2 to 4 points: K_ij = (1/m_a + 1/m_b) + (r_ai × n)·I_a⁻¹(r_aj × n) +
+    // (r_bi × n)·I_b⁻¹(r_bj × n) (Jacobi: the split masses).
+    blocks_.clear();
+    const bool jacobi = options_.scheme == ContactScheme::jacobi;
+    for (std::size_t i = 0; i < rows_.size();) {
+        Row& c = rows_[i];
+        c.block = -1;
+        if (!c.point || c.block_size < 2) {
+            ++i;
+            continue;
+        }
+        const std::size_t m = c.block_size;
+        double ra[4][3], rb[4][3];
+        for (std::size_t j = 0; j < m; ++j)
+            for (int d = 0; d < 3; ++d) ra[j][d] = rows_[i + j].xa[d], rb[j][d] = rows_[i + j].xb[d];
+        Block b;
+        const Body& A = bodies_[c.a];
+        const Body& B = bodies_[c.b];
+        const double sa = jacobi ? split_[c.a] : 1.0, sb = jacobi ? split_[c.b] : 1.0;
+        fill_block(A, B, c.n, ra, rb, m, sa, sb, b);
+        for (int d = 0; d < 3; ++d) {
+            b.ra[d] = b.rb[d] = 0;
+            for (std::size_t j = 0; j < m; ++j) b.ra[d] += ra[j][d] / static_cast<double>(m), b.rb[d] += rb[j][d] / static_cast<double>(m);
+            b.t1[d] = c.t1[d], b.t2[d] = c.t2[d];
+        }
+        b.reach = 0;
+        for (std::size_t j = 0; j < m; ++j) {
+            double e[3];
+            for (int d = 0; d < 3; ++d) e[d] = ra[j][d] - b.ra[d];
+            const double en = dot(e, c.n);
+            b.reach += std::sqrt(std::max(dot(e, e) - en * en, 0.0)) / static_cast<double>(m);
+        }
+        auto inverse_mass = [&](const double* u) {
+            double ua[3], ub[3];
+            cross(b.ra, u, ua);
+            cross(b.rb, u, ub);
+            return sa * (A.im + quad(A.ii, ua)) + sb * (B.im + quad(B.ii, ub));
+        };
+        b.mt1 = 1 / inverse_mass(b.t1);
+        b.mt2 = 1 / inverse_mass(b.t2);
+        b.mtw = 1 / (sa * quad(A.ii, c.n) + sb * quad(B.ii, c.n));
+        b.mu = c.mu;
+        b.jt1 = b.jt2 = b.jtw = 0;
+        for (std::size_t j = 0; j < m; ++j) {
+            rows_[i + j].block = static_cast<int>(blocks_.size());
+            rows_[i + j].jt1 = rows_[i + j].jt2 = 0;
+        }
+        blocks_.push_back(b);
+        i += m;
+    }
+}
+
+void Solver::apply_central(const Block& k, const Row& c, double l1, double l2, double ltw, std::vector<Body>& B) const {
+    Body& A = B[c.a];
+    Body& Bb = B[c.b];
+    double p[3], u[3], i[3];
+    for (int d = 0; d < 3; ++d) {
+        p[d] = l1 * k.t1[d] + l2 * k.t2[d];
+        A.v[d] += A.im * p[d];
+        Bb.v[d] -= Bb.im * p[d];
+    }
+    cross(k.ra, p, u);
+    for (int d = 0; d < 3; ++d) u[d] += ltw * c.n[d];
+    mul_sym(A.ii, u, i);
+    for (int d = 0; d < 3; ++d) A.w[d] += i[d];
+    cross(k.rb, p, u);
+    for (int d = 0; d < 3; ++d) u[d] += ltw * c.n[d];
+    mul_sym(Bb.ii, u, i);
+    for (int d = 0; d < 3; ++d) Bb.w[d] -= i[d];
 }
 
 void Solver::apply_normal(Row& c, double l, std::vector<Body>& B) {
+    if (c.point) {
+        const double p[3] = {l * c.n[0], l * c.n[1], l * c.n[2]};
+        apply_point(c, p, B);
+        return;
+    }
     Body& A = B[c.a];
     Body& Bb = B[c.b];
     if (A.model >= 0 || Bb.model >= 0) {
@@ -213,6 +421,11 @@ void Solver::apply_normal(Row& c, double l, std::vector<Body>& B) {
 }
 
 void Solver::apply_tangent(Row& c, double l1, double l2, std::vector<Body>& B) {
+    if (c.point) {
+        const double p[3] = {l1 * c.t1[0] + l2 * c.t2[0], l1 * c.t1[1] + l2 * c.t2[1], l1 * c.t1[2] + l2 * c.t2[2]};
+        apply_point(c, p, B);
+        return;
+    }
     Body& A = B[c.a];
     Body& Bb = B[c.b];
     if (A.model >= 0 || Bb.model >= 0) {
@@ -258,7 +471,7 @@ void Solver::find_slots(const World& w) {
     if (slots_.empty()) return;
     for (Row& c : rows_) {
         const Index a = ids_[c.a];
-        const double key = c.plane >= 0 ? -(c.plane + 1.0) : ids_[c.b] + 1.0;
+        const double key = cache_key(c);
         for (std::size_t k = 0; k < slots_.size(); ++k) {
             const double p = w.at(slots_[k].partner, a);
             if (p == 0) break; // slots are filled from the front
@@ -278,11 +491,26 @@ void Solver::warm_start(const World& w) {
         const Index a = ids_[c.a];
         const double jt[3] = {w.at(s->jtx, a), w.at(s->jty, a), w.at(s->jtz, a)};
         c.jn = w.at(s->jn, a);
+        apply_normal(c, c.jn, bodies_);
+        if (c.block >= 0) { // a manifold's friction is its centre's: summed over its points
+            Block& k = blocks_[static_cast<std::size_t>(c.block)];
+            k.jt1 += dot(jt, k.t1);
+            k.jt2 += dot(jt, k.t2);
+            continue;
+        }
         c.jt1 = dot(jt, c.t1);
         c.jt2 = dot(jt, c.t2);
         clamp_disk(c.jt1, c.jt2, c.mu * c.jn);
-        apply_normal(c, c.jn, bodies_);
         apply_tangent(c, c.jt1, c.jt2, bodies_);
+    }
+    for (std::size_t i = 0; i < rows_.size(); ++i) {
+        const Row& c = rows_[i];
+        if (c.block < 0 || c.block_size == 0) continue;
+        Block& k = blocks_[static_cast<std::size_t>(c.block)];
+        double load = 0;
+        for (std::size_t j = 0; j < k.count; ++j) load += rows_[i + j].jn;
+        clamp_disk(k.jt1, k.jt2, k.mu * load);
+        if (k.jt1 != 0 || k.jt2 != 0) apply_central(k, c, k.jt1, k.jt2, 0, bodies_);
     }
 }
 
@@ -292,11 +520,41 @@ void Solver::collisions(double dt) {
         bool any = false;
         if (jacobi) snapshot_ = bodies_;
         const std::vector<Body>& from = jacobi ? snapshot_ : bodies_; // read; impulses go to bodies_
-        for (Row& c : rows_) {
+        for (std::size_t i = 0; i < rows_.size(); ++i) {
+            Row& c = rows_[i];
             const Body& A = from[c.a];
             const Body& B = from[c.b];
-            double dv[3] = {A.v[0] - B.v[0], A.v[1] - B.v[1], A.v[2] - B.v[2]};
-            const double vn = dot(dv, c.n);
+            if (c.block >= 0) { // a manifold's points together (solve_lcp)
+                Block& k = blocks_[static_cast<std::size_t>(c.block)];
+                const std::size_t m = k.count;
+                double vn[4] = {0, 0, 0, 0}, target[4] = {0, 0, 0, 0}, x[4];
+                bool hit = false;
+                for (std::size_t j = 0; j < m; ++j) {
+                    const Row& r = rows_[i + j];
+                    vn[j] = normal_velocity(r, A, B);
+                    if (r.slot >= 0 || vn[j] >= 0 || r.sep + vn[j] * dt >= 0) continue;
+                    const double e = curve(material_.restitution, -vn[j], true);
+                    target[j] = -e * vn[j];
+                    hit = hit || e > 0;
+                }
+                i += m - 1;
+                if (!hit || !solve_lcp(k, vn, target, x)) continue;
+                any = true;
+                double load = 0;
+                for (std::size_t j = 0; j < m; ++j) {
+                    apply_normal(rows_[i + 1 - m + j], x[j], bodies_);
+                    load += x[j];
+                }
+                double wa[3], wb[3], dv[3];
+                cross(A.w, k.ra, wa);
+                cross(B.w, k.rb, wb);
+                for (int d = 0; d < 3; ++d) dv[d] = A.v[d] + wa[d] - B.v[d] - wb[d];
+                double l1 = -dot(dv, k.t1) * k.mt1, l2 = -dot(dv, k.t2) * k.mt2;
+                clamp_disk(l1, l2, k.mu * load);
+                if (l1 != 0 || l2 != 0) apply_central(k, c, l1, l2, 0, bodies_);
+                continue;
+            }
+            const double vn = normal_velocity(c, A, B);
             if (c.slot >= 0 || vn >= 0 || c.sep + vn * dt >= 0) continue;
             const double e = curve(material_.restitution, -vn, true);
             if (e == 0) continue;
@@ -318,31 +576,254 @@ void Solver::solve_contacts() {
     for (int it = 0; it < options_.velocity_iterations; ++it) {
         if (jacobi) snapshot_ = bodies_;
         const std::vector<Body>& from = jacobi ? snapshot_ : bodies_;
-        for (Row& c : rows_) {
-            // Friction first, limited by the normal impulse of the previous pass.
+        // Friction first, limited by the normal impulse of the previous pass.
+        auto friction = [&](Row& c) {
+            const Body& A = from[c.a];
+            const Body& B = from[c.b];
+            double vt1, vt2;
+            tangent_velocity(c, A, B, vt1, vt2);
+            double n1 = c.jt1 - vt1 * c.mt1, n2 = c.jt2 - vt2 * c.mt2;
+            clamp_disk(n1, n2, c.mu * c.jn);
+            const double l1 = n1 - c.jt1, l2 = n2 - c.jt2;
+            c.jt1 = n1;
+            c.jt2 = n2;
+            if (l1 != 0 || l2 != 0) apply_tangent(c, l1, l2, bodies_);
+        };
+        auto normal = [&](Row& c) {
+            const Body& A = jacobi ? from[c.a] : bodies_[c.a];
+            const Body& B = jacobi ? from[c.b] : bodies_[c.b];
+            const double vn = normal_velocity(c, A, B);
+            const double jn = std::max(c.jn - (vn - c.bias) * c.mn, 0.0);
+            const double l = jn - c.jn;
+            c.jn = jn;
+            if (l != 0) apply_normal(c, l, bodies_);
+        };
+        for (std::size_t i = 0; i < rows_.size();) {
+            Row& c = rows_[i];
+            if (c.block < 0) {
+                friction(c);
+                normal(c);
+                ++i;
+                continue;
+            }
+            // A manifold: friction at its centre, then its points' normal impulses together.
+            Block& k = blocks_[static_cast<std::size_t>(c.block)];
+            const std::size_t m = k.count;
             {
                 const Body& A = from[c.a];
                 const Body& B = from[c.b];
-                double vt1, vt2;
-                tangent_velocity(c, A, B, vt1, vt2);
-                double n1 = c.jt1 - vt1 * c.mt1, n2 = c.jt2 - vt2 * c.mt2;
-                clamp_disk(n1, n2, c.mu * c.jn);
-                const double l1 = n1 - c.jt1, l2 = n2 - c.jt2;
-                c.jt1 = n1;
-                c.jt2 = n2;
-                if (l1 != 0 || l2 != 0) apply_tangent(c, l1, l2, bodies_);
+                double wa[3], wb[3], dv[3];
+                cross(A.w, k.ra, wa);
+                cross(B.w, k.rb, wb);
+                for (int d = 0; d < 3; ++d) dv[d] = A.v[d] + wa[d] - B.v[d] - wb[d];
+                double load = 0;
+                for (std::size_t j = 0; j < m; ++j) load += rows_[i + j].jn;
+                const double limit = k.mu * load;
+                double n1 = k.jt1 - dot(dv, k.t1) * k.mt1, n2 = k.jt2 - dot(dv, k.t2) * k.mt2;
+                clamp_disk(n1, n2, limit);
+                const double wn = (A.w[0] - B.w[0]) * c.n[0] + (A.w[1] - B.w[1]) * c.n[1] + (A.w[2] - B.w[2]) * c.n[2];
+                const double ntw = std::clamp(k.jtw - wn * k.mtw, -limit * k.reach, limit * k.reach);
+                const double l1 = n1 - k.jt1, l2 = n2 - k.jt2, ltw = ntw - k.jtw;
+                k.jt1 = n1, k.jt2 = n2, k.jtw = ntw;
+                if (l1 != 0 || l2 != 0 || ltw != 0) apply_central(k, c, l1, l2, ltw, bodies_);
             }
-            {
-                const Body& A = jacobi ? from[c.a] : bodies_[c.a];
-                const Body& B = jacobi ? from[c.b] : bodies_[c.b];
-                const double vn = (A.v[0] - B.v[0]) * c.n[0] + (A.v[1] - B.v[1]) * c.n[1] + (A.v[2] - B.v[2]) * c.n[2];
-                const double jn = std::max(c.jn - (vn - c.bias) * c.mn, 0.0);
-                const double l = jn - c.jn;
-                c.jn = jn;
-                if (l != 0) apply_normal(c, l, bodies_);
+            if (!solve_block(k, i, jacobi ? from : bodies_))
+                for (std::size_t j = 0; j < m; ++j) normal(rows_[i + j]);
+            // The centre's friction is cached with the first pressing point (warm_start sums them).
+            for (std::size_t j = 0, held = 0; j < m; ++j) {
+                Row& r = rows_[i + j];
+                const bool carry = held == 0 && r.jn > 0;
+                r.jt1 = carry ? k.jt1 : 0.0;
+                r.jt2 = carry ? k.jt2 : 0.0;
+                held += carry ? 1 : 0;
             }
+            i += m;
         }
     }
+}
+
+namespace {
+
+/// The sets of pressing points of a manifold of m points (bit i: point i), largest first.
+struct SetOrder {
+    unsigned sets[16];
+    int count = 0;
+    explicit SetOrder(unsigned m) {
+        const unsigned all = (1u << m) - 1;
+        for (int size = static_cast<int>(m); size >= 0; --size)
+            for (unsigned set = all + 1; set-- > 0;)
+                if (std::popcount(set) == size) sets[count++] = set;
+    }
+};
+const SetOrder kSetOrders[5] = {SetOrder(0), SetOrder(1), SetOrder(2), SetOrder(3), SetOrder(4)};
+
+/// In place: the inverse of the symmetric positive definite n × n matrix a (row-major,
+/// stride 4), by Gauss–Jordan elimination (no pivoting is needed for such a matrix).
+void invert_spd(double* a, int n) {
+    for (int k = 0; k < n; ++k) {
+        const double p = 1 / a[4 * k + k];
+        a[4 * k + k] = 1;
+        for (int j = 0; j < n; ++j) a[4 * k + j] *= p;
+        for (int i = 0; i < n; ++i) {
+            if (i == k) continue;
+            const double f = a[4 * i + k];
+            a[4 * i + k] = 0;
+            for (int j = 0; j < n; ++j) a[4 * i + j] -= f * a[4 * k + j];
+        }
+    }
+}
+
+} // namespace
+
+bool Solver::solve_block(Block& k, std::size_t first, const std::vector<Body>& from) {
+    // The manifold's linear complementarity problem, solved exactly: with a the accumulated
+    // impulses, v the normal velocities and b = v − K a (the velocities without them), find
+    // x ≥ 0 with w = b + K x ≥ bias and x_i (w_i − bias_i) = 0, by trying the sets of
+    // pressing points from all of them down to none (Box2D's block solver for two points,
+    // for up to four). K of a face's four points has rank 3 (+1e-9 of its diagonal keeps
+    // the full set solvable; a set of three solves it exactly).
+    const std::size_t m = k.count;
+    double b[4] = {0, 0, 0, 0}, bias[4] = {0, 0, 0, 0};
+    for (std::size_t i = 0; i < m; ++i) {
+        const Row& c = rows_[first + i];
+        b[i] = normal_velocity(c, from[c.a], from[c.b]);
+        bias[i] = c.bias;
+    }
+    for (std::size_t i = 0; i < m; ++i)
+        for (std::size_t j = 0; j < m; ++j) b[i] -= k.k[4 * i + j] * rows_[first + j].jn;
+    double x[4];
+    if (!solve_lcp(k, b, bias, x)) return false;
+    for (std::size_t j = 0; j < m; ++j) {
+        Row& c = rows_[first + j];
+        const double l = x[j] - c.jn;
+        c.jn = x[j];
+        if (l != 0) apply_normal(c, l, bodies_);
+    }
+    return true;
+}
+
+
+bool Solver::solve_lcp(Block& k, const double* b, const double* bias, double* x) const {
+    // Always from the largest set down, so that of the many impulses that hold a face (its
+    // four points' K has rank 3) the same, symmetric ones are chosen; the inverse of the
+    // full set, tried most, is kept.
+    const SetOrder& order = kSetOrders[k.count];
+    for (int i = 0; i < order.count; ++i) {
+        for (int j = 0; j < 4; ++j) x[j] = 0;
+        if (try_set(k, order.sets[i], b, bias, x, i > 0)) return true;
+    }
+    return false;
+}
+
+void Solver::fill_block(const Body& A, const Body& B, const double* n, const double (*ra)[3], const double (*rb)[3],
+                        std::size_t m, double sa, double sb, Block& k) {
+    double ua[4][3], ub[4][3], ia[4][3], ib[4][3];
+    for (std::size_t j = 0; j < m; ++j) {
+        cross(ra[j], n, ua[j]);
+        cross(rb[j], n, ub[j]);
+        mul_sym(A.ii, ua[j], ia[j]);
+        mul_sym(B.ii, ub[j], ib[j]);
+    }
+    k.count = m;
+    Eigen::Matrix4d kk = Eigen::Matrix4d::Identity(); // padded: block-diagonal with 𝟙
+    for (std::size_t p = 0; p < 4; ++p)
+        for (std::size_t q = 0; q < 4; ++q) {
+            k.k[4 * p + q] = p < m && q < m ? sa * (A.im + dot(ua[p], ia[q])) + sb * (B.im + dot(ub[p], ib[q])) : 0.0;
+            if (p < m && q < m) kk(static_cast<Eigen::Index>(p), static_cast<Eigen::Index>(q)) = k.k[4 * p + q];
+        }
+    // The full set's pseudo-inverse (the least impulses that do it): four points of a face
+    // give a K of rank 3, whose regularised inverse would amplify round-off unevenly.
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> es(kk);
+    const Eigen::Vector4d l = es.eigenvalues();
+    const double floor = 1e-10 * l.cwiseAbs().maxCoeff();
+    Eigen::Vector4d li;
+    for (int i = 0; i < 4; ++i) li(i) = l(i) > floor ? 1 / l(i) : 0.0;
+    const Eigen::Matrix4d pinv = es.eigenvectors() * li.asDiagonal() * es.eigenvectors().transpose();
+    for (int p = 0; p < 4; ++p)
+        for (int q = 0; q < 4; ++q) k.inv[4 * p + q] = pinv(p, q);
+    k.set_known = true;
+}
+
+bool Solver::correct_block(std::size_t first, Block& k) {
+    // The points' corrections together, as the velocities are solved: λ ≥ 0 with
+    // (K λ)_i ≥ β (depth_i − slop) and complementarity, then every body moved and turned once.
+    const Row& c = rows_[first];
+    const std::size_t m = c.block_size;
+    Body& A = bodies_[c.a];
+    Body& B = bodies_[c.b];
+    double ra[4][3], rb[4][3], target[4], zero[4] = {0, 0, 0, 0};
+    bool deep = false;
+    for (std::size_t j = 0; j < m; ++j) {
+        double xa[3], xb[3];
+        anchors(rows_[first + j], xa, xb);
+        const double sep = (xa[0] - xb[0]) * c.n[0] + (xa[1] - xb[1]) * c.n[1] + (xa[2] - xb[2]) * c.n[2];
+        target[j] = options_.baumgarte * (-sep - options_.slop);
+        deep = deep || target[j] > 0;
+        for (int d = 0; d < 3; ++d) {
+            const double mid = 0.5 * (xa[d] + xb[d]);
+            ra[j][d] = mid - A.p[d];
+            rb[j][d] = c.plane >= 0 ? 0.0 : mid - B.p[d];
+        }
+    }
+    if (!deep) return false;
+    // K at the lever arms of the first pass that needs it: the passes move the bodies by the
+    // depth only, and K's eigen-decomposition is the cost of a pass.
+    if (!k.set_known) fill_block(A, B, c.n, ra, rb, m, 1.0, 1.0, k);
+    double x[4];
+    if (!solve_lcp(k, zero, target, x)) return false;
+    double p[3] = {0, 0, 0}, ta[3] = {0, 0, 0}, tb[3] = {0, 0, 0};
+    for (std::size_t j = 0; j < m; ++j) {
+        const double l[3] = {x[j] * c.n[0], x[j] * c.n[1], x[j] * c.n[2]};
+        double u[3];
+        for (int d = 0; d < 3; ++d) p[d] += l[d];
+        cross(ra[j], l, u);
+        for (int d = 0; d < 3; ++d) ta[d] += u[d];
+        cross(rb[j], l, u);
+        for (int d = 0; d < 3; ++d) tb[d] += u[d];
+    }
+    double wa[3], wb[3];
+    mul_sym(A.ii, ta, wa);
+    mul_sym(B.ii, tb, wb);
+    for (int d = 0; d < 3; ++d) {
+        A.p[d] += A.im * p[d];
+        B.p[d] -= B.im * p[d];
+        wb[d] = -wb[d];
+    }
+    rotate_by(A.q, wa);
+    if (c.plane < 0) rotate_by(B.q, wb);
+    return true;
+}
+
+bool Solver::try_set(Block& k, unsigned set, const double* b, const double* bias, double* x, bool fresh) const {
+    const std::size_t m = k.count;
+    const bool full = set == (1u << m) - 1;
+    int idx[4];
+    int n = 0;
+    for (std::size_t i = 0; i < m; ++i)
+        if (set & (1u << i)) idx[n++] = static_cast<int>(i);
+    double local[16];
+    const double* inv = full ? k.inv : local;
+    if (fresh && !full) { // (K_SS + 1e-9 diag)⁻¹
+        for (int p = 0; p < n; ++p) {
+            for (int q = 0; q < n; ++q) local[4 * p + q] = k.k[4 * idx[p] + idx[q]];
+            local[4 * p + p] *= 1 + 1e-9;
+        }
+        invert_spd(local, n);
+    }
+    for (int p = 0; p < n; ++p) {
+        double s = 0;
+        for (int q = 0; q < n; ++q) s += inv[4 * p + q] * (bias[idx[q]] - b[idx[q]]);
+        if (!(s >= 0)) return false;
+        x[idx[p]] = s;
+    }
+    // The points left out must not sink (w_i ≥ bias_i).
+    for (std::size_t i = 0; i < m; ++i) {
+        if (set & (1u << i)) continue;
+        double w = b[i];
+        for (std::size_t j = 0; j < m; ++j) w += k.k[4 * i + j] * x[j];
+        if (w < bias[i] - 1e-12 * (1 + std::abs(bias[i]))) return false;
+    }
+    return true;
 }
 
 void Solver::scatter(World& w) {
@@ -353,6 +834,8 @@ void Solver::scatter(World& w) {
         w.at(kVX, i) = b.v[0], w.at(kVY, i) = b.v[1], w.at(kVZ, i) = b.v[2];
         w.at(kWX, i) = b.w[0], w.at(kWY, i) = b.w[1], w.at(kWZ, i) = b.w[2];
         w.at(kX, i) = b.p[0], w.at(kY, i) = b.p[1], w.at(kZ, i) = b.p[2];
+        if (shape_field_ >= 0) // turned by the position correction
+            w.at(kQW, i) = b.q[0], w.at(kQX, i) = b.q[1], w.at(kQY, i) = b.q[2], w.at(kQZ, i) = b.q[3];
     }
 }
 
@@ -367,7 +850,7 @@ void Solver::store_cache(World& w) const {
         const Index a = ids_[c.a];
         for (const Slot& s : slots_) {
             if (w.at(s.partner, a) != 0) continue;
-            w.at(s.partner, a) = c.plane >= 0 ? -(c.plane + 1.0) : ids_[c.b] + 1.0;
+            w.at(s.partner, a) = cache_key(c);
             w.at(s.jn, a) = c.jn;
             w.at(s.jtx, a) = c.jt1 * c.t1[0] + c.jt2 * c.t2[0];
             w.at(s.jty, a) = c.jt1 * c.t1[1] + c.jt2 * c.t2[1];
@@ -396,6 +879,8 @@ void Solver::step(double dt, World& w) {
 
 Domain writes_of(const Layout& layout, const ComponentSet& bodies) {
     Domain d = Domain::of(layout, {"x", "y", "z", "vx", "vy", "vz", "wx", "wy", "wz"}, bodies);
+    // With boxes or capsules, the position correction turns bodies too.
+    if (shape_field(layout) >= 0) d = d | Domain::of(layout, {"qw", "qx", "qy", "qz"}, bodies);
     for (std::size_t f = 0; f < layout.fields.size(); ++f)
         if (layout.fields[f].rfind("wc_", 0) == 0) d = d | Domain(static_cast<FieldId>(f), bodies);
     return d;
@@ -414,8 +899,10 @@ void validate(const std::vector<Plane>& planes, const ContactMaterial& material,
 }
 
 Domain reads_of(const Layout& layout, const ComponentSet& bodies) {
-    return Domain::of(layout, {"m", "inv_m", "iIxx", "iIyy", "iIzz", "iIxy", "iIxz", "iIyz", "radius", "qw", "qx", "qy", "qz"},
-                      bodies);
+    Domain d = Domain::of(layout, {"m", "inv_m", "iIxx", "iIyy", "iIzz", "iIxy", "iIxz", "iIyz", "radius", "qw", "qx", "qy", "qz"},
+                          bodies);
+    if (shape_field(layout) >= 0) d = d | Domain::of(layout, {"shape", "hx", "hy", "hz"}, bodies);
+    return d;
 }
 
 } // namespace contact_detail
@@ -458,6 +945,44 @@ NumericWorkflow rigid_contact_step(const Force3D& force, const ComponentSet& bod
 
 double max_penetration(const World& w, const ComponentSet& bodies, std::span<const Plane> planes) {
     std::vector<Index> ids(bodies.indices().begin(), bodies.indices().end());
+    if (const int f = shape_field(w.layout()); f >= 0) { // every shape: the manifolds' deepest points
+        std::vector<contact_detail::Body> b(ids.size());
+        std::vector<AABB> boxes(ids.size());
+        for (std::size_t k = 0; k < ids.size(); ++k) {
+            b[k] = contact_detail::shape_body(w, ids[k], f);
+            const Eigen::Vector3d c = position(w, ids[k]);
+            const Eigen::Vector3d h(b[k].h[0], b[k].h[1], b[k].h[2]);
+            const double reach = b[k].shape == Shape::box ? h.norm() : b[k].r + h.y();
+            boxes[k] = aabb_from_sphere(SphereBB{c, reach});
+        }
+        std::vector<CandidatePair> pairs;
+        UniformGrid().find_pairs(boxes, pairs);
+        double worst = 0;
+        Manifold m;
+        auto deepest = [&] {
+            for (int k = 0; k < m.count; ++k) worst = std::max(worst, -m.points[static_cast<std::size_t>(k)].separation);
+        };
+        for (const CandidatePair& p : pairs) {
+            const contact_detail::Body& A = b[p.a];
+            const contact_detail::Body& B = b[p.b];
+            if (A.shape == Shape::sphere && B.shape == Shape::sphere) {
+                const Eigen::Vector3d d(A.p[0] - B.p[0], A.p[1] - B.p[1], A.p[2] - B.p[2]);
+                if (A.r > 0 && B.r > 0) worst = std::max(worst, A.r + B.r - d.norm());
+                continue;
+            }
+            if (contact_detail::collide(A, B, 0, m)) deepest();
+        }
+        for (std::size_t k = 0; k < ids.size(); ++k)
+            for (const Plane& pl : planes) {
+                if (b[k].shape == Shape::sphere) {
+                    if (b[k].r > 0)
+                        worst = std::max(worst, b[k].r + pl.offset - pl.normal.dot(Eigen::Vector3d(b[k].p[0], b[k].p[1], b[k].p[2])));
+                    continue;
+                }
+                if (contact_detail::collide_plane(b[k], pl, 0, m)) deepest();
+            }
+        return worst;
+    }
     std::vector<AABB> boxes(ids.size());
     for (std::size_t k = 0; k < ids.size(); ++k)
         boxes[k] = aabb_from_sphere(SphereBB{position(w, ids[k]), w.at(kRadius, ids[k])});

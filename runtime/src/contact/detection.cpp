@@ -5,6 +5,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "phynjo/runtime/core/errors.hpp"
+
 namespace phynjo::runtime::contact_detail {
 
 void Solver::detect(const World& w, double dt) {
@@ -17,8 +19,14 @@ void Solver::detect(const World& w, double dt) {
     margins_.resize(ids_.size());
     for (std::size_t k = 0; k < ids_.size(); ++k) {
         const Body& b = bodies_[k];
+        // A box's size is its smallest half-extent (a sphere's and a capsule's their radius).
+        const double r = b.shape == Shape::box ? std::min({b.h[0], b.h[1], b.h[2]}) : b.r;
         margins_[k] = uniform ? 0.5 * options_.margin
-                              : std::min(b.r, std::max(2 * std::sqrt(dot(b.v, b.v)) * dt, std::max(options_.slop, 0.02 * b.r)));
+                              : std::min(r, std::max(2 * std::sqrt(dot(b.v, b.v)) * dt, std::max(options_.slop, 0.02 * r)));
+    }
+    if (shape_field_ >= 0) {
+        detect_shapes(w);
+        return;
     }
     if (sphere_pairs_) {
         spheres_.resize(ids_.size());
@@ -50,6 +58,10 @@ void Solver::detect(const World& w, double dt) {
         sphere_plane_contacts(w, ids_, planes_, options_.margin, contacts_);
     else
         sphere_plane_contacts(w, ids_, planes_, std::span<const double>(margins_), contacts_);
+    spheres_to_rows(w);
+}
+
+void Solver::spheres_to_rows(const World& w) {
     // Scratch indices instead of component indices.
     local_.resize(w.size());
     for (std::size_t k = 0; k < ids_.size(); ++k) local_[ids_[k]] = static_cast<Index>(k);
@@ -67,8 +79,173 @@ void Solver::detect(const World& w, double dt) {
         r.plane = k.plane;
         r.jn = r.jt1 = r.jt2 = 0;
         r.slot = -1;
+        r.point = false; // the scratch row may have been a manifold's
+        r.block_size = 1;
+        r.block = -1;
     }
     rows_.resize(kept);
+}
+
+void Solver::detect_shapes(const World& w) {
+    if (n_rigid_ < ids_.size())
+        for (std::size_t k = 0; k < n_rigid_; ++k)
+            if (bodies_[k].shape != Shape::sphere)
+                throw Error("contact: '" + layout_->components.label(ids_[k]) +
+                            "' is a box or capsule in a scene with models; their spheres meet spheres only");
+    const bool uniform = options_.margin >= 0;
+    auto margin_of = [&](std::size_t k) { return uniform ? 0.5 * options_.margin : margins_[k]; };
+    // Bounds: a sphere's box, a box's tight AABB, a capsule's segment's box grown by its
+    // radius, each grown by its margin.
+    bounds_.resize(n_rigid_);
+    for (std::size_t k = 0; k < n_rigid_; ++k) {
+        const Body& b = bodies_[k];
+        const Eigen::Vector3d c(b.p[0], b.p[1], b.p[2]);
+        const Quaternion q{b.q[0], b.q[1], b.q[2], b.q[3]};
+        AABB box;
+        switch (b.shape) {
+        case Shape::sphere: box = aabb_from_sphere(SphereBB{c, b.r}); break;
+        case Shape::box: box = aabb_from_obb(OBB{c, Eigen::Vector3d(b.h[0], b.h[1], b.h[2]), q}); break;
+        case Shape::capsule: {
+            const Eigen::Vector3d e = q.rotate(Eigen::Vector3d(0, b.h[1], 0)).cwiseAbs() + Eigen::Vector3d::Constant(b.r);
+            box = AABB{c - e, c + e};
+            break;
+        }
+        }
+        const Eigen::Vector3d grow = Eigen::Vector3d::Constant(margin_of(k));
+        bounds_[k] = AABB{box.lo - grow, box.hi + grow};
+    }
+    point_rows_.clear();
+    sphere_pairs_list_.clear();
+    Manifold m;
+    if (sphere_pairs_) {
+        manager_.update(std::span<const AABB>(bounds_.data(), n_rigid_));
+        for (const CandidatePair& p : manager_.run_broad_phase()) {
+            const Body& A = bodies_[p.a];
+            const Body& B = bodies_[p.b];
+            if (A.shape == Shape::sphere && B.shape == Shape::sphere) {
+                sphere_pairs_list_.push_back(p);
+                continue;
+            }
+            const double margin = margin_of(p.a) + margin_of(p.b);
+            if (!collide(A, B, margin, m)) continue;
+            add_manifold(m, p.a, p.b, -1);
+        }
+    }
+    if (uniform)
+        sphere_sphere_contacts(w, sphere_pairs_list_, ids_, options_.margin, contacts_);
+    else
+        sphere_sphere_contacts(w, sphere_pairs_list_, ids_, std::span<const double>(margins_), contacts_);
+    // Planes: spheres as sphere_plane_contacts does, the other shapes by their manifolds.
+    const auto stat = static_cast<std::uint32_t>(ids_.size());
+    for (std::size_t k = 0; k < n_rigid_; ++k) {
+        const Body& b = bodies_[k];
+        for (std::size_t i = 0; i < planes_.size(); ++i) {
+            const Plane& pl = planes_[i];
+            if (b.shape == Shape::sphere) {
+                if (!(b.r > 0)) continue;
+                const double s = pl.normal.x() * b.p[0] + pl.normal.y() * b.p[1] + pl.normal.z() * b.p[2] - pl.offset - b.r;
+                if (s >= margin_of(k)) continue;
+                Contact c;
+                c.a = ids_[k];
+                c.b = ids_[k];
+                c.plane = static_cast<int>(i);
+                c.normal = pl.normal;
+                c.separation = s;
+                contacts_.push_back(c);
+                continue;
+            }
+            if (!collide_plane(b, pl, margin_of(k), m)) continue;
+            add_manifold(m, static_cast<std::uint32_t>(k), stat, static_cast<int>(i));
+        }
+    }
+    spheres_to_rows(w);
+    rows_.insert(rows_.end(), point_rows_.begin(), point_rows_.end());
+}
+
+namespace {
+OBB obb_of(const Body& b) {
+    return OBB{Eigen::Vector3d(b.p[0], b.p[1], b.p[2]), Eigen::Vector3d(b.h[0], b.h[1], b.h[2]),
+               Quaternion{b.q[0], b.q[1], b.q[2], b.q[3]}};
+}
+Capsule capsule_of(const Body& b) {
+    const Eigen::Vector3d c(b.p[0], b.p[1], b.p[2]);
+    const Eigen::Vector3d e = Quaternion{b.q[0], b.q[1], b.q[2], b.q[3]}.rotate(Eigen::Vector3d(0, b.h[1], 0));
+    return Capsule{c - e, c + e, b.r};
+}
+SphereBB sphere_of(const Body& b) { return SphereBB{Eigen::Vector3d(b.p[0], b.p[1], b.p[2]), b.r}; }
+} // namespace
+
+bool collide(const Body& A, const Body& B, double margin, Manifold& m) {
+    m.count = 0;
+    // Each pair of shapes once, a's shape the first; the other order by flipping.
+    auto pair = [&](const Body& X, const Body& Y, bool flip) {
+        switch (X.shape) {
+        case Shape::box:
+            switch (Y.shape) {
+            case Shape::box: box_box(obb_of(X), obb_of(Y), margin, m); break;
+            case Shape::sphere: sphere_box(sphere_of(Y), obb_of(X), margin, m), flip = !flip; break;
+            case Shape::capsule: capsule_box(capsule_of(Y), obb_of(X), margin, m), flip = !flip; break;
+            }
+            break;
+        case Shape::capsule:
+            switch (Y.shape) {
+            case Shape::capsule: capsule_capsule(capsule_of(X), capsule_of(Y), margin, m); break;
+            case Shape::sphere: capsule_sphere(capsule_of(X), sphere_of(Y), margin, m); break;
+            case Shape::box: capsule_box(capsule_of(X), obb_of(Y), margin, m); break;
+            }
+            break;
+        case Shape::sphere: break; // sphere–sphere pairs are rows of their own
+        }
+        if (flip && m.count > 0) m.flip();
+    };
+    if (A.shape == Shape::sphere)
+        pair(B, A, true);
+    else
+        pair(A, B, false);
+    return m.count > 0;
+}
+
+bool collide_plane(const Body& A, const Plane& plane, double margin, Manifold& m) {
+    m.count = 0;
+    if (A.shape == Shape::box)
+        box_plane(obb_of(A), plane, margin, m);
+    else if (A.shape == Shape::capsule)
+        capsule_plane(capsule_of(A), plane, margin, m);
+    return m.count > 0;
+}
+
+Body shape_body(const World& w, Index i, int shape_field) {
+    Body b{};
+    b.p[0] = w.at(kX, i), b.p[1] = w.at(kY, i), b.p[2] = w.at(kZ, i);
+    b.q[0] = w.at(kQW, i), b.q[1] = w.at(kQX, i), b.q[2] = w.at(kQY, i), b.q[3] = w.at(kQZ, i);
+    b.r = w.at(kRadius, i);
+    const auto f = static_cast<FieldId>(shape_field);
+    b.shape = static_cast<Shape>(static_cast<int>(w.at(f, i)));
+    for (int k = 0; k < 3; ++k) b.h[k] = w.at(f + 1 + static_cast<FieldId>(k), i);
+    return b;
+}
+
+void Solver::add_manifold(const Manifold& m, std::uint32_t a, std::uint32_t b, int plane) {
+    const Body& A = bodies_[a];
+    const Body& B = bodies_[b];
+    const Quaternion qa{A.q[0], A.q[1], A.q[2], A.q[3]}, qb{B.q[0], B.q[1], B.q[2], B.q[3]};
+    for (int k = 0; k < m.count; ++k) {
+        const ManifoldPoint& p = m.points[static_cast<std::size_t>(k)];
+        Row r{};
+        r.a = a;
+        r.b = b;
+        r.plane = plane;
+        r.point = true;
+        r.feature = p.feature;
+        r.n[0] = m.normal.x(), r.n[1] = m.normal.y(), r.n[2] = m.normal.z();
+        const Eigen::Vector3d la = qa.rotate_inverse(p.on_a - Eigen::Vector3d(A.p[0], A.p[1], A.p[2]));
+        const Eigen::Vector3d lb = plane >= 0 ? p.on_b : qb.rotate_inverse(p.on_b - Eigen::Vector3d(B.p[0], B.p[1], B.p[2]));
+        for (int i = 0; i < 3; ++i) r.la[i] = la(i), r.lb[i] = lb(i);
+        r.sep = p.separation;
+        r.slot = -1;
+        r.block_size = static_cast<std::uint8_t>(k == 0 ? m.count : 0);
+        point_rows_.push_back(r);
+    }
 }
 
 } // namespace phynjo::runtime::contact_detail

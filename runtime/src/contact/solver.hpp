@@ -17,8 +17,18 @@
 // 3×3 matrix A_s = J_s B_s instead of 1/m 𝟙: 1/m_a in K⁻¹(u) becomes uᵀA_s u, and an impulse
 // Λ on it changes its model's q' by B_s Λ, hence the velocity of every sphere s' of that
 // model by J_s' B_s Λ.
+// A row of a manifold (a box or capsule against anything: a "point" row) has general lever
+// arms r_a = x − p_a, r_b = x − p_b from the centres to the contact point x (the midpoint of
+// its two surface points):
+//   v_rel = (v_a + ω_a × r_a) − (v_b + ω_b × r_b),
+//   K⁻¹(u) = 1/m_a + 1/m_b + (r_a × u)·I_a⁻¹(r_a × u) + (r_b × u)·I_b⁻¹(r_b × u),
+// and an impulse P on a (−P on b) changes v_a by P/m_a and ω_a by I_a⁻¹(r_a × P) (b alike,
+// negated). Its surface points are kept as anchors in the bodies' frames, so the position
+// correction sees the separation at the corrected positions and orientations.
+#include "phynjo/runtime/collision/manifold.hpp"
 #include "phynjo/runtime/contact/contact_solver.hpp"
 #include "phynjo/runtime/contact/scene.hpp"
+#include "phynjo/runtime/rigid/rigid_world.hpp"
 
 #include <cmath>
 #include <cstdint>
@@ -35,6 +45,10 @@ struct Body {
     double r;
     int model = -1;  // a model sphere: its model (ModelScratch), else −1
     int sphere = -1; // its index among that model's spheres
+    // Worlds with shape fields only:
+    double q[4] = {1, 0, 0, 0}; // orientation (w, x, y, z)
+    double h[3] = {0, 0, 0};    // RigidBody::half_extents
+    Shape shape = Shape::sphere;
 };
 
 /// A model taking part in the contacts: its q, q' during the solve and, at the state of the
@@ -62,6 +76,30 @@ struct Row {
     double jn, jt1, jt2;         // accumulated impulses
     int slot;                    // its warm-start slot in the cache, −1 if none: a contact with
                                  // a slot carried a load in the previous step (it is resting)
+    // Point rows (manifolds; file comment):
+    bool point = false;
+    std::uint32_t feature = 0;   // ManifoldPoint::feature: with b, the warm-start key
+    double la[3], lb[3];         // surface points in a's and b's body frames (b's: world for a plane)
+    double xa[3], xb[3];         // lever arms r_a, r_b at the velocity solve
+    std::uint8_t block_size = 1; // on a manifold's first row: its point count (0 on the others)
+    int block = -1;              // setup_blocks: the Block of a manifold of 2+ points (all its rows)
+};
+
+/// A manifold of 2 to 4 points (setup_blocks): their normal impulses solved together, and
+/// its friction at its centre — two tangents and a twist about the normal, limited by μ Σ jn
+/// (and μ Σ jn times the points' mean distance from the centre) — so that the order in which
+/// the points are visited leaves no net push or turn: a resting box stays put.
+struct Block {
+    std::size_t count = 0;
+    double k[16];         // K, 4 × 4 row-major, the first count × count used
+    double ra[3], rb[3];  // lever arms of the centre (the mean of the points)
+    double t1[3], t2[3];  // the tangents of its rows
+    double mt1, mt2, mtw; // effective masses along t1, t2 at the centre and of the twist
+    double reach;         // mean distance of the points from the centre, m
+    double mu;
+    double jt1, jt2, jtw; // accumulated friction impulses and twist (N·s, N·m·s)
+    bool set_known = false; // fill_block: inv holds K's pseudo-inverse (all the points pressing)
+    double inv[16];
 };
 
 inline double dot(const double* a, const double* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
@@ -91,11 +129,53 @@ inline void tangent_basis(const double* n, double* t1, double* t2) {
     t2[2] = n[0] * t1[1] - n[1] * t1[0];
 }
 
+inline void cross(const double* a, const double* b, double* out) {
+    out[0] = a[1] * b[2] - a[2] * b[1];
+    out[1] = a[2] * b[0] - a[0] * b[2];
+    out[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+/// A point row's v_rel = (v_a + ω_a × r_a) − (v_b + ω_b × r_b) (file comment).
+inline void point_velocity(const Row& c, const Body& A, const Body& B, double* dv) {
+    double wa[3], wb[3];
+    cross(A.w, c.xa, wa);
+    cross(B.w, c.xb, wb);
+    for (int k = 0; k < 3; ++k) dv[k] = A.v[k] + wa[k] - B.v[k] - wb[k];
+}
+
 /// The tangential velocity (v_t1, v_t2) of the contact point of b relative to a's (file comment).
 inline void tangent_velocity(const Row& c, const Body& A, const Body& B, double& vt1, double& vt2) {
+    if (c.point) {
+        double dv[3];
+        point_velocity(c, A, B, dv);
+        vt1 = dot(dv, c.t1);
+        vt2 = dot(dv, c.t2);
+        return;
+    }
     const double dv[3] = {A.v[0] - B.v[0], A.v[1] - B.v[1], A.v[2] - B.v[2]};
     vt1 = dot(dv, c.t1) - c.ra * dot(A.w, c.t2) - c.rb * dot(B.w, c.t2);
     vt2 = dot(dv, c.t2) + c.ra * dot(A.w, c.t1) + c.rb * dot(B.w, c.t1);
+}
+
+/// The normal velocity v_rel·n of a row.
+inline double normal_velocity(const Row& c, const Body& A, const Body& B) {
+    if (c.point) {
+        double dv[3];
+        point_velocity(c, A, B, dv);
+        return dot(dv, c.n);
+    }
+    return (A.v[0] - B.v[0]) * c.n[0] + (A.v[1] - B.v[1]) * c.n[1] + (A.v[2] - B.v[2]) * c.n[2];
+}
+
+/// The rotation of q by the small angle θ (rad, world frame): q ← normalise(q + ½ (0, θ) ⊗ q).
+inline void rotate_by(double* q, const double* th) {
+    const double w = q[0], x = q[1], y = q[2], z = q[3];
+    q[0] = w - 0.5 * (th[0] * x + th[1] * y + th[2] * z);
+    q[1] = x + 0.5 * (th[0] * w + th[1] * z - th[2] * y);
+    q[2] = y + 0.5 * (th[1] * w + th[2] * x - th[0] * z);
+    q[3] = z + 0.5 * (th[2] * w + th[0] * y - th[1] * x);
+    const double n = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+    for (int k = 0; k < 4; ++k) q[k] /= n;
 }
 
 /// Coulomb's disk: scales (x, y) back onto the circle of radius lim if it lies outside.
@@ -151,6 +231,7 @@ public:
             slots_.push_back({static_cast<FieldId>(p), layout_->field("wc_jn#" + s), layout_->field("wc_jtx#" + s),
                               layout_->field("wc_jty#" + s), layout_->field("wc_jtz#" + s)});
         }
+        shape_field_ = shape_field(*layout_);
         // Scratch for kReservedContactsPerBody sphere contacts per body and one per plane,
         // reserved now so that steps allocate nothing while contacts appear (a falling pile);
         // a scene beyond that grows it once.
@@ -167,11 +248,36 @@ public:
         local_.reserve(layout_->components.size());
         manager_.reserve(n, n * kReservedContactsPerBody);
         if (n_rigid_ < n) model_pairs_.reserve(n * kReservedContactsPerBody);
+        if (shape_field_ >= 0) { // manifolds: up to 4 points a pair
+            bounds_.reserve(n);
+            sphere_pairs_list_.reserve(n * kReservedContactsPerBody);
+            point_rows_.reserve(4 * contacts);
+            rows_.reserve(5 * contacts);
+            turn_.reserve(3 * (n + 1));
+            blocks_.reserve(contacts);
+            pos_blocks_.reserve(contacts);
+        }
     }
 
     void step(double dt, World& w);
 
 private:
+    /// detect for a world with shape fields: bounds of every shape through the broad phase,
+    /// then spheres as before and every other pair by its manifold (point rows).
+    void detect_shapes(const World& w);
+    /// contacts_ (sphere contacts) → rows_, in scratch indices.
+    void spheres_to_rows(const World& w);
+
+    /// Point rows from a manifold between scratch bodies a and b (b = the static body and
+    /// `plane` its plane for a plane).
+    void add_manifold(const Manifold& m, std::uint32_t a, std::uint32_t b, int plane);
+    /// The world surface points of a point row at the current positions.
+    void anchors(const Row& c, double* xa, double* xb) const;
+    /// A point row's impulse P on a (−P on b) at its lever arms.
+    void apply_point(const Row& c, const double* p, std::vector<Body>& B) const;
+    /// The warm-start key of a row: its partner (body + 1, or −(plane + 1)) and, for a
+    /// point row, its feature times 2³².
+    double cache_key(const Row& c) const;
     struct Slot {
         FieldId partner, jn, jtx, jty, jtz;
     };
@@ -186,6 +292,24 @@ private:
     void find_slots(const World& w);
     void collisions(double dt);
     void solve_contacts();
+    void setup_blocks();
+    /// The friction of a block at its centre (l1, l2 along t1, t2) and its twist ltw about n.
+    void apply_central(const Block& k, const Row& c, double l1, double l2, double ltw, std::vector<Body>& B) const;
+    /// The normal impulses of the block from rows_[first]; false (nothing applied) when one
+    /// of them would pull.
+    bool solve_block(Block& k, std::size_t first, const std::vector<Body>& from);
+    /// The impulses x when exactly the points of `set` press (b, bias: solve_block); false
+    /// when one of them would pull or a point left out would sink. The full set uses k.inv;
+    /// another set's K_SS (+1e-9 of its diagonal) is inverted here.
+    bool try_set(Block& k, unsigned set, const double* b, const double* bias, double* x, bool fresh) const;
+    /// x ≥ 0 with w = b + K x ≥ bias, complementary, from the largest set of pressing points down.
+    bool solve_lcp(Block& k, const double* b, const double* bias, double* x) const;
+    /// K of m points with lever arms ra, rb and normal n between A and B (split masses sa, sb).
+    static void fill_block(const Body& A, const Body& B, const double* n, const double (*ra)[3], const double (*rb)[3],
+                           std::size_t m, double sa, double sb, Block& k);
+    /// Gauss–Seidel position correction of the manifold from rows_[first] (k: its K, filled
+    /// when !k.set_known); false if no point is deeper than the slop.
+    bool correct_block(std::size_t first, Block& k);
     void scatter(World& w);
     /// The unit normal n (from b towards a) and the signed separation at the current positions.
     double geometry(const Row& c, double* n) const;
@@ -221,6 +345,13 @@ private:
     std::vector<Index> local_;  // component → scratch index (for pair lookup)
     std::vector<ModelScratch> models_;
     FieldId q_field_ = 0, qd_field_ = 0;
+    int shape_field_ = -1;              // shape_field(layout): −1 in a world of spheres
+    std::vector<AABB> bounds_;          // detect_shapes: per body
+    std::vector<CandidatePair> sphere_pairs_list_; // detect_shapes: the sphere–sphere pairs
+    std::vector<Row> point_rows_;       // detect_shapes: the manifolds' rows
+    std::vector<double> turn_;          // Jacobi position correction: 3 rotation components per body
+    std::vector<Block> blocks_;
+    std::vector<Block> pos_blocks_; // correct_positions: K of each manifold, once a step
     std::size_t n_rigid_ = 0; // ids_: the rigid bodies, then the models' spheres
 
     void gather_model(const World& w, ModelScratch& m, std::size_t index);
@@ -241,6 +372,14 @@ private:
     /// Whether a row between a and b has a model sphere on either side.
     bool has_model(const Row& c) const { return bodies_[c.a].model >= 0 || bodies_[c.b].model >= 0; }
 };
+
+/// The manifold of two bodies that are not both spheres (normal from B towards A), or of a
+/// body that is not a sphere and a plane; false if there is none.
+bool collide(const Body& A, const Body& B, double margin, Manifold& m);
+bool collide_plane(const Body& A, const Plane& plane, double margin, Manifold& m);
+/// A rigid body of a world with shape fields as a scratch body: its position, orientation,
+/// shape and size (for the narrow phase only).
+Body shape_body(const World& w, Index i, int shape_field);
 
 /// K⁻¹ below this fraction of the two sides' scales: the pair cannot move along u (scene.hpp).
 constexpr double kSingularInverseMass = 1e-12;

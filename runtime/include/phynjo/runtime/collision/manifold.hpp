@@ -46,8 +46,10 @@ struct Manifold {
 /// clipped against the side planes of the reference face (Sutherland–Hodgman), points
 /// beyond the margin dropped, at most 4 kept (the deepest, the farthest from it, then
 /// those spanning the largest area); for an edge axis, the closest points of the two edges.
-/// Feature id: reference box and face, incident face and the two lines (incident edges or
-/// reference sides) that meet at the point; or the two edges.
+/// Feature id: reference box and face, incident face, and the corner of the reference face
+/// and vertex of the incident face nearest the point (so a point keeps its id when it turns
+/// from an incident vertex into a clipped point, as points of equal stacked boxes do at
+/// every jiggle); or the two edges.
 void box_box(const OBB& a, const OBB& b, double margin, Manifold& out);
 /// Box a on a static plane: the vertices below the margin (at most 4, chosen as box_box
 /// does); feature id the vertex (bits: its signs along x, y, z).
@@ -55,5 +57,21 @@ void box_plane(const OBB& a, const Plane& plane, double margin, Manifold& out);
 /// Sphere a against box b: the closest point of the box to the centre (when the centre is
 /// inside, the nearest face); feature id the box's face, edge or vertex region.
 void sphere_box(const SphereBB& a, const OBB& b, double margin, Manifold& out);
+/// Capsule a on a static plane: each end of its segment closer than margin + r (up to 2
+/// points: a capsule lying on its side rests on both); feature id the end (0, 1).
+void capsule_plane(const Capsule& a, const Plane& plane, double margin, Manifold& out);
+/// Capsule a against sphere b: the closest point of the segment to the centre, then two
+/// spheres; feature id 0.
+void capsule_sphere(const Capsule& a, const SphereBB& b, double margin, Manifold& out);
+/// Capsule a against capsule b: the closest points of the two segments (feature id 2), or,
+/// for segments parallel within 1e-3 rad whose projections overlap, the two ends of the
+/// overlap (ids 0, 1): parallel capsules rest on a line, not a point.
+void capsule_capsule(const Capsule& a, const Capsule& b, double margin, Manifold& out);
+/// Capsule a against box b: the closest points of the segment and the box (the distance
+/// along the segment is convex: golden-section search); when the segment lies within
+/// 1e-3 rad of parallel to the face it meets, the segment clipped against that face's side
+/// planes gives two points (ids 8 + 2·face + end); a segment that enters the box is pushed
+/// out along the separating axis (box faces, segment × box edges) of least overlap.
+void capsule_box(const Capsule& a, const OBB& b, double margin, Manifold& out);
 
 } // namespace phynjo::runtime
