@@ -241,3 +241,27 @@ TEST_CASE("boxes meeting face to face part at e times the speed they met", "[con
         CHECK(angular_velocity(w, 0).norm() < 1e-9);
     }
 }
+
+// Catches: a manifold's friction along one tangent only, friction that is not opposite the
+// sliding velocity (a box that curves), μ taken from the wrong row.
+TEST_CASE("a box sliding on the ground stops in a straight line after v^2 / (2 mu g)", "[contact][boxes][friction]") {
+    const double mu = 0.5, v0 = 2;
+    for (const double heading : {0.0, 0.7, 1.9, 3.0, 4.4}) {
+        const Eigen::Vector3d dir(std::cos(heading), 0, std::sin(heading));
+        const std::vector<RigidInit> init{at({0, 0.1, 0}, Quaternion::from_axis_angle({0, 1, 0}, 0.3))};
+        World w = boxes({RigidBody::solid_box(1, {0.3, 0.1, 0.3})}, init);
+        set_velocity(w, 0, v0 * dir);
+        Stepper s(step_of(w, {Plane::ground()}, mu));
+        s.run(w, 1.0 / 240, 240);
+        const Eigen::Vector3d d = position(w, 0) - init[0].position;
+        const double along = d.dot(dir), across = (d - along * dir).norm();
+        // Semi-implicit Euler moves by the velocity after each step's friction: the stopping
+        // distance falls short of the continuous v²/(2μg) by v dt / 2 (to within a step's a dt²).
+        const double dt = 1.0 / 240, continuous = v0 * v0 / (2 * mu * g), expected = continuous - v0 * dt / 2;
+        INFO("heading " << heading << ": slid " << along << " m along, " << across << " m across; v^2/(2 mu g) = "
+                        << continuous << ", less v dt / 2: " << expected);
+        CHECK(velocity(w, 0).norm() < 1e-9);
+        CHECK(std::abs(along - expected) < mu * g * dt * dt);
+        CHECK(across < 1e-6);
+    }
+}

@@ -331,3 +331,75 @@ TEST_CASE("sphere-box separations agree with points sampled on the box's surface
         if (!inside && nearest > 5 * cell) CHECK(m.normal.dot((s.center - at).normalized()) > 0.99);
     }
 }
+
+// Catches: the closest points of two segments wrong at their ends (a capsule's cap missed),
+// parallel capsules resting on one point (they rock), a normal from a to b.
+TEST_CASE("capsule manifolds agree with sampled distances between their segments and shapes", "[collision][manifold][capsules]") {
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> pos(-0.6, 0.6), rad(0.02, 0.2), len(0.0, 0.5);
+    auto random_capsule = [&](const Eigen::Vector3d& c) {
+        const Eigen::Vector3d e = random_rotation(rng).rotate(Eigen::Vector3d(0, len(rng), 0));
+        return Capsule{c - e, c + e, rad(rng)};
+    };
+    const int n = 400; // samples along a segment
+    auto point = [](const Capsule& c, int i, int k) { return Eigen::Vector3d(c.p0 + (c.p1 - c.p0) * (static_cast<double>(i) / k)); };
+    for (int trial = 0; trial < 300; ++trial) {
+        INFO("trial " << trial);
+        // capsule–capsule
+        const Capsule a = random_capsule({0, 0, 0}), b = random_capsule({pos(rng), pos(rng), pos(rng)});
+        double nearest = INFINITY;
+        for (int i = 0; i <= n; ++i)
+            for (int j = 0; j <= n; j += 1) nearest = std::min(nearest, (point(a, i, n) - point(b, j, n)).norm());
+        const double cell = ((a.p1 - a.p0).norm() + (b.p1 - b.p0).norm()) / n;
+        Manifold m;
+        capsule_capsule(a, b, 10.0, m);
+        REQUIRE(m.count >= 1);
+        const double s = m.points[0].separation;
+        const double expected = nearest - a.radius - b.radius;
+        CHECK(s <= expected + 1e-12);
+        CHECK(s >= expected - cell);
+        for (int k = 0; k < m.count; ++k) {
+            const ManifoldPoint& p = m.points[static_cast<std::size_t>(k)];
+            CHECK(std::abs(p.separation - (p.on_a - p.on_b).dot(m.normal)) < 1e-12);
+        }
+        // capsule–box: the distance of the segment's points from the box, each by clamping
+        const OBB box_b = box({pos(rng), pos(rng), pos(rng)}, {0.1 + 0.3 * std::abs(pos(rng)), 0.1 + 0.3 * std::abs(pos(rng)), 0.1 + 0.3 * std::abs(pos(rng))},
+                              random_rotation(rng));
+        double to_box = INFINITY;
+        const Eigen::Matrix3d r = box_b.rotation.to_matrix();
+        for (int i = 0; i <= n; ++i) {
+            const Eigen::Vector3d l = r.transpose() * (point(a, i, n) - box_b.center);
+            to_box = std::min(to_box, (l - l.cwiseMax(-box_b.half).cwiseMin(box_b.half)).norm());
+        }
+        Manifold mb;
+        capsule_box(a, box_b, 10.0, mb);
+        REQUIRE(mb.count >= 1);
+        if (to_box > 0) { // apart at the core: the distance, within a sample's spacing
+            double least = INFINITY;
+            for (int k = 0; k < mb.count; ++k) least = std::min(least, mb.points[static_cast<std::size_t>(k)].separation);
+            CHECK(least <= to_box - a.radius + 1e-9);
+            CHECK(least >= to_box - a.radius - (a.p1 - a.p0).norm() / n);
+        } else { // the segment enters the box: deeper than the radius
+            CHECK(mb.points[0].separation < -a.radius + 1e-9);
+        }
+        for (int k = 0; k < mb.count; ++k) {
+            const ManifoldPoint& p = mb.points[static_cast<std::size_t>(k)];
+            CHECK(std::abs(p.separation - (p.on_a - p.on_b).dot(mb.normal)) < 1e-12);
+        }
+    }
+    // Parallel capsules side by side rest on a line: two points, at the ends of the overlap.
+    Manifold par;
+    capsule_capsule(Capsule{{-0.5, 0.1, 0}, {0.5, 0.1, 0}, 0.05}, Capsule{{-0.2, 0, 0}, {0.9, 0, 0}, 0.05}, 0.01, par);
+    REQUIRE(par.count == 2);
+    CHECK((par.normal - Eigen::Vector3d(0, 1, 0)).norm() < 1e-12);
+    CHECK(std::abs(par.points[0].on_a.x() + 0.2) < 1e-12);
+    CHECK(std::abs(par.points[1].on_a.x() - 0.5) < 1e-12);
+    // A capsule lying on a box's face: two points, its ends clipped to the face.
+    Manifold lying;
+    capsule_box(Capsule{{-0.8, 0.55, 0.1}, {0.3, 0.55, 0.1}, 0.05}, box({0, 0, 0}, {0.5, 0.5, 0.5}), 0.01, lying);
+    REQUIRE(lying.count == 2);
+    CHECK((lying.normal - Eigen::Vector3d(0, 1, 0)).norm() < 1e-12);
+    CHECK(std::abs(lying.points[0].separation) < 1e-12);
+    CHECK(std::abs(lying.points[0].on_b.x() + 0.5) < 1e-12);
+    CHECK(std::abs(lying.points[1].on_b.x() - 0.3) < 1e-12);
+}
