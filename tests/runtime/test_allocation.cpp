@@ -111,4 +111,21 @@ TEST_CASE("steady-state steps allocate nothing", "[runtime][allocation]") {
             CHECK(u.at(kY, 23) < 0.9); // the upper ones piled up on it
         }
     }
+    SECTION("boxes, capsules and spheres with contacts: a pile while it falls, lands and piles up") {
+        // Catches: the manifolds' scratch (their rows, blocks, bounds, the solver's LCP
+        // sets) growing as contacts appear.
+        const World w = phynjo::test::shape_grid(4, 5, 4, {0.06, 0.08, 0.06}, 0.11, 0.005, 5);
+        const std::vector<Plane> planes = phynjo::test::box_walls(0.44);
+        for (ContactScheme scheme : {ContactScheme::gauss_seidel, ContactScheme::jacobi}) {
+            World u = w;
+            ContactOptions o;
+            o.scheme = scheme;
+            Stepper s(rigid_contact_step(Force3D::gravity(9.81), all_bodies(u), planes,
+                                         ContactMaterial{restitution_curve(0.3, 0.2), constant_curve(0.5)}, o, u.layout_ptr()));
+            s.step(u, 1.0 / 240);
+            INFO((scheme == ContactScheme::jacobi ? "Jacobi" : "Gauss-Seidel"));
+            CHECK(count([&] { s.run(u, 1.0 / 240, 480); }) == 0);
+            CHECK(u.at(kY, 0) < 0.07); // the lowest body fell and landed
+        }
+    }
 }

@@ -62,6 +62,38 @@ inline runtime::World sphere_grid(const SphereGrid& g) {
                             contact_cache_fields());
 }
 
+/// nx·ny·nz bodies at origin + spacing ⊙ (i, j, k), in turn a box (half-extents 0.03–0.05 m),
+/// a capsule (radius 0.025 m, half-length 0.02 m) and a sphere (radius 0.04 m), 1 kg each,
+/// turned at random, moved by up to ±jitter, drawn from std::mt19937(seed); with 32 warm-start
+/// slots a body (a box's manifolds take up to four).
+inline runtime::World shape_grid(int nx, int ny, int nz, const Eigen::Vector3d& origin, double spacing, double jitter,
+                                 std::uint32_t seed) {
+    using namespace runtime;
+    Registry reg;
+    std::vector<RigidBody> bodies;
+    std::vector<RigidInit> init;
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> u(-1, 1), size(0.03, 0.05);
+    std::normal_distribution<double> gauss;
+    for (int i = 0; i < nx; ++i)
+        for (int j = 0; j < ny; ++j)
+            for (int k = 0; k < nz; ++k) {
+                const std::size_t n = init.size();
+                reg.add("b" + std::to_string(n));
+                if (n % 3 == 0)
+                    bodies.push_back(RigidBody::solid_box(1, {size(rng), size(rng), size(rng)}));
+                else if (n % 3 == 1)
+                    bodies.push_back(RigidBody::solid_capsule(1, 0.025, 0.02));
+                else
+                    bodies.push_back(RigidBody::solid_sphere(1, 0.04));
+                RigidInit s;
+                s.position = origin + spacing * Eigen::Vector3d(i, j, k) + jitter * Eigen::Vector3d(u(rng), u(rng), u(rng));
+                s.orientation = Quaternion{gauss(rng), gauss(rng), gauss(rng), gauss(rng)}.normalized();
+                init.push_back(s);
+            }
+    return make_rigid_world(reg, bodies, init, contact_cache_fields(32));
+}
+
 /// The ground and four walls of the square box [0, side]² (x and z).
 inline std::vector<runtime::Plane> box_walls(double side) {
     using runtime::Plane;

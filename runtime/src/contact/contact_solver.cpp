@@ -282,15 +282,9 @@ void Solver::setup_rows(double dt) {
             c.ra = c.rb = 0;
             c.sep = (xa[0] - xb[0]) * c.n[0] + (xa[1] - xb[1]) * c.n[1] + (xa[2] - xb[2]) * c.n[2];
             tangent_basis(c.n, c.t1, c.t2);
-            auto inverse_mass = [&](const double* u) {
-                double ua[3], ub[3];
-                cross(c.xa, u, ua);
-                cross(c.xb, u, ub);
-                return sa * (A.im + quad(A.ii, ua)) + sb * (B.im + quad(B.ii, ub));
-            };
-            c.mn = 1 / inverse_mass(c.n);
-            c.mt1 = 1 / inverse_mass(c.t1);
-            c.mt2 = 1 / inverse_mass(c.t2);
+            c.mn = 1 / point_inverse_mass(A, B, c.xa, c.xb, c.n, sa, sb);
+            c.mt1 = 1 / point_inverse_mass(A, B, c.xa, c.xb, c.t1, sa, sb);
+            c.mt2 = 1 / point_inverse_mass(A, B, c.xa, c.xb, c.t2, sa, sb);
             c.bias = -std::max(c.sep, 0.0) / dt;
             double vt1, vt2;
             tangent_velocity(c, A, B, vt1, vt2);
@@ -361,14 +355,8 @@ void Solver::setup_blocks() {
             const double en = dot(e, c.n);
             b.reach += std::sqrt(std::max(dot(e, e) - en * en, 0.0)) / static_cast<double>(m);
         }
-        auto inverse_mass = [&](const double* u) {
-            double ua[3], ub[3];
-            cross(b.ra, u, ua);
-            cross(b.rb, u, ub);
-            return sa * (A.im + quad(A.ii, ua)) + sb * (B.im + quad(B.ii, ub));
-        };
-        b.mt1 = 1 / inverse_mass(b.t1);
-        b.mt2 = 1 / inverse_mass(b.t2);
+        b.mt1 = 1 / point_inverse_mass(A, B, b.ra, b.rb, b.t1, sa, sb);
+        b.mt2 = 1 / point_inverse_mass(A, B, b.ra, b.rb, b.t2, sa, sb);
         b.mtw = 1 / (sa * quad(A.ii, c.n) + sb * quad(B.ii, c.n));
         b.mu = c.mu;
         b.jt1 = b.jt2 = b.jtw = 0;

@@ -143,6 +143,16 @@ inline void point_velocity(const Row& c, const Body& A, const Body& B, double* d
     for (int k = 0; k < 3; ++k) dv[k] = A.v[k] + wa[k] - B.v[k] - wb[k];
 }
 
+/// K⁻¹(u) at lever arms ra, rb (file comment), each side's share scaled by sa, sb (Jacobi's
+/// mass splitting; 1 for Gauss–Seidel).
+inline double point_inverse_mass(const Body& A, const Body& B, const double* ra, const double* rb, const double* u,
+                                 double sa, double sb) {
+    double ua[3], ub[3];
+    cross(ra, u, ua);
+    cross(rb, u, ub);
+    return sa * (A.im + quad(A.ii, ua)) + sb * (B.im + quad(B.ii, ub));
+}
+
 /// The tangential velocity (v_t1, v_t2) of the contact point of b relative to a's (file comment).
 inline void tangent_velocity(const Row& c, const Body& A, const Body& B, double& vt1, double& vt2) {
     if (c.point) {

@@ -1,6 +1,7 @@
 #pragma once
 /// \file
-/// Contacts between spheres and with static planes, as a rule with a domain: the
+/// Contacts between bodies (spheres, boxes, capsules: RigidBody::shape) and with static
+/// planes, as a rule with a domain: the
 /// impulse formulas (restitution curve e(v_n), Coulomb friction curve μ(|v_t|), effective
 /// masses with world inertia tensors, Baumgarte position correction with β and slop), solved
 /// by Jacobi passes or by Gauss–Seidel (sequential impulses).
@@ -22,6 +23,18 @@
 ///     the previous step when the world has contact_cache_fields();
 /// with K⁻¹(u) = 1/m_a + 1/m_b + (r_a × u)·I_a⁻¹(r_a × u) + (r_b × u)·I_b⁻¹(r_b × u),
 /// I⁻¹ = R I_B⁻¹ Rᵀ, r_a = −r_a n, r_b = +r_b n, and v_rel = (v_a + ω_a × r_a) − (v_b + ω_b × r_b).
+///
+/// A box or capsule meets a body or a plane through a manifold (manifold.hpp: a normal and up
+/// to four points), each point a contact whose lever arms run from the centres to the point
+/// (the midpoint of its two surface points). The points of one manifold are solved together:
+/// their position corrections (step 2, which then also turns the bodies) and normal impulses
+/// (steps 3 and 4) as one linear complementarity problem — K_ij = K⁻¹ between points i and j,
+/// the impulses x ≥ 0 with v_n + K x ≥ target and complementarity, from all points pressing
+/// down to none — and their friction at the manifold's centre: two tangents limited by
+/// μ Σ j_n and a twist about n limited by μ Σ j_n times the points' mean distance from the
+/// centre. Visiting a face's points one after another would push and turn a resting box by
+/// the order of the visit; together they do not. The warm-start key of a point is its partner
+/// and its feature id.
 #include "phynjo/runtime/collision/collision_manager.hpp"
 #include "phynjo/runtime/collision/narrow_phase.hpp"
 #include "phynjo/runtime/core/workflow.hpp"
@@ -73,14 +86,17 @@ struct ContactOptions {
 };
 
 /// Fields to add to a rigid world (make_rigid_world's extra_fields) for warm starting: per
-/// body, `slots` remembered contacts (partner, normal impulse, friction impulse vector).
+/// body, `slots` remembered contacts (partner, normal impulse, friction impulse vector). A
+/// box's manifolds take up to four each: piles of boxes want 32.
 std::vector<std::string> contact_cache_fields(int slots = 16);
 
-/// The contact rule over the sphere-shaped `bodies` (radius > 0) and the static `planes`;
-/// `sphere_pairs` = false skips body–body contacts. Domain: positions, velocities, angular
-/// velocities (and the cache fields) of `bodies`; reads their mass properties, orientations
-/// and radii. Throws std::invalid_argument for bad options or planes. When run, throws
-/// phynjo::runtime::Error if a material curve leaves its range.
+/// The contact rule over `bodies` (spheres with radius > 0, boxes, capsules) and the static
+/// `planes`; `sphere_pairs` = false skips body–body contacts. Domain: positions, velocities, angular
+/// velocities (and the cache fields) of `bodies`, and in a world with shape fields their
+/// orientations; reads their mass properties, orientations, radii and shapes. Throws
+/// std::invalid_argument for bad options or planes. When run, throws phynjo::runtime::Error
+/// if a material curve leaves its range, or a box or capsule is in a scene with models (their
+/// spheres meet spheres only, for now).
 NumericRule contact_rule(const ComponentSet& bodies, std::vector<Plane> planes, ContactMaterial material,
                          ContactOptions options, const std::shared_ptr<const Layout>& layout, bool sphere_pairs = true);
 /// Spheres on the ground y = 0 (contactGroundF).
@@ -96,7 +112,7 @@ NumericWorkflow rigid_contact_step(const Force3D& force, const ComponentSet& bod
                                    ContactMaterial material, ContactOptions options,
                                    const std::shared_ptr<const Layout>& layout);
 
-/// The deepest overlap between two spheres of `bodies` or a sphere and a plane, m (0 if none).
+/// The deepest overlap between two bodies of `bodies` or a body and a plane, m (0 if none).
 double max_penetration(const World& w, const ComponentSet& bodies, std::span<const Plane> planes);
 
 } // namespace phynjo::runtime
