@@ -16,7 +16,7 @@ def test_every_animation_linked_from_the_index_opens_offline_and_plays():
     with open(os.path.join(out, "index.html")) as f:
         index = f.read()
     pages = re.findall(r'href="([a-z_]+\.html)"', index)
-    assert len(pages) >= 14, pages  # the 14 examples with geometry (scripts/demo-index)
+    assert len(pages) >= 18, pages  # the 18 examples with geometry (scripts/demo-index)
     driver = browser.start()
     try:
         for page in pages:

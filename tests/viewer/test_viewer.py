@@ -30,6 +30,7 @@ def pages(tmp_path_factory):
     subprocess.run([ball, "--t-end", "3", "--events", d / "bounces.csv", "-o", d / "ball.csv",
                     "--html", d / "ball.html"], check=True)
     subprocess.run([os.environ["PHYNJO_TOP"], "--output", d], check=True, stdout=subprocess.DEVNULL)
+    subprocess.run([os.environ["PHYNJO_SHAPED_PAGE"], d / "shaped.html"], check=True)
     return d
 
 
@@ -197,3 +198,40 @@ def test_rigid_bodies_are_drawn_at_their_recorded_pose(pages, driver):
         assert drawn["scale"] == pytest.approx([radius] * 3, rel=1e-5)
         turned += abs(q[0]) < 0.99
     assert turned >= 2  # the top turns: most of these frames are not the identity
+
+
+def test_boxes_and_capsules_are_drawn_as_their_shapes(pages, driver):
+    """Catches: a box or a capsule drawn as a sphere (the kind lost on the way to the page), a
+    box scaled by its half-extents instead of its sides or with its axes swapped, a capsule
+    whose outline is not its radius and segment (a diameter for a radius, the caps missing),
+    an orientation not applied to them, or a shape invisible in the picture."""
+    browser.load(driver, pages / "shaped.html")
+    meta = driver.execute_script("return phynjo.meta.bodies")
+    assert [b["kind"] for b in meta] == ["box", "capsule", "sphere"]
+    assert meta[0]["half_extents"] == pytest.approx([0.3, 0.1, 0.2], rel=1e-12)
+    assert meta[1]["radius"] == pytest.approx(0.1, rel=1e-12)
+    assert meta[1]["half_extents"][1] == pytest.approx(0.3, rel=1e-12)
+    lo, hi = driver.execute_script("return phynjo.geometryBounds(0)")
+    assert lo == pytest.approx([-0.5] * 3, abs=1e-6) and hi == pytest.approx([0.5] * 3, abs=1e-6)
+    lo, hi = driver.execute_script("return phynjo.geometryBounds(1)")
+    assert hi[1] == pytest.approx(0.4, abs=1e-6) and lo[1] == pytest.approx(-0.4, abs=1e-6)  # L + r
+    assert max(hi[0], hi[2]) == pytest.approx(0.1, rel=1e-3) and min(lo[0], lo[2]) == pytest.approx(-0.1, rel=1e-3)
+    n = driver.execute_script("return phynjo.frameCount")
+    for f in (0, n // 4, n - 1):
+        driver.execute_script("phynjo.seekFrame(arguments[0])", f)
+        for body, scale in ((0, [0.6, 0.2, 0.4]), (1, [1, 1, 1])):
+            drawn = driver.execute_script("return phynjo.drawn(arguments[0])", body)
+            q = driver.execute_script("return phynjo.orientation(arguments[0], arguments[1])", body, f)
+            p = driver.execute_script("return phynjo.position(arguments[0], arguments[1])", body, f)
+            norm = math.sqrt(sum(c * c for c in q))
+            assert abs(sum(a * b / norm for a, b in zip(drawn["quaternion"], q))) > 1 - 1e-6, (f, body, drawn, q)
+            assert drawn["position"] == pytest.approx(p, abs=1e-6)
+            assert drawn["scale"] == pytest.approx(scale, rel=1e-5)
+    # the picture: at each shape's projected centre, its own colour
+    driver.execute_script("phynjo.seekFrame(arguments[0])", n - 1)
+    width, height, pixels = browser.png_pixels(driver.get_screenshot_as_png())
+    for body in (0, 1, 2):
+        x, y = driver.execute_script("return phynjo.project(arguments[0])", body)
+        colour = driver.execute_script("return phynjo.colour(arguments[0])", body)
+        hs, hc = hue(pixels[round(y)][round(x)]), hue(colour)
+        assert min(abs(hs[0] - hc[0]), 1 - abs(hs[0] - hc[0])) < 0.04 and hs[1] > 0.3, (body, hs, hc)

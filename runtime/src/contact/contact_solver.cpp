@@ -150,7 +150,7 @@ void Solver::correct_positions() {
         std::size_t block = 0;
         for (std::size_t i = 0; i < rows_.size(); ++i) {
             Row& c = rows_[i];
-            if (!jacobi && c.point && c.block_size >= 2) { // a manifold's points together
+            if (c.point && c.block_size >= 2) { // a manifold's points together
                 if (it == 0 && block == pos_blocks_.size()) pos_blocks_.push_back(Block{});
                 if (it == 0) pos_blocks_[block].set_known = false;
                 any = correct_block(i, pos_blocks_[block++]) || any;
@@ -661,6 +661,61 @@ void invert_spd(double* a, int n) {
     }
 }
 
+/// In place: as invert_spd, false (a left in pieces) when a pivot falls below 1e-9 of its
+/// diagonal entry, the matrix then singular to working precision.
+bool invert_spd_checked(double* a, int n) {
+    for (int k = 0; k < n; ++k)
+        if (!(a[4 * k + k] > 0)) return false;
+    double diag[4];
+    for (int k = 0; k < n; ++k) diag[k] = a[4 * k + k];
+    for (int k = 0; k < n; ++k) {
+        if (!(a[4 * k + k] > 1e-9 * diag[k])) return false;
+        const double p = 1 / a[4 * k + k];
+        a[4 * k + k] = 1;
+        for (int j = 0; j < n; ++j) a[4 * k + j] *= p;
+        for (int i = 0; i < n; ++i) {
+            if (i == k) continue;
+            const double f = a[4 * i + k];
+            a[4 * i + k] = 0;
+            for (int j = 0; j < n; ++j) a[4 * i + j] -= f * a[4 * k + j];
+        }
+    }
+    return true;
+}
+
+/// K⁺ of a block into k.inv without an eigen-decomposition (fill_block); false when the
+/// manifold is degenerate. ua_j = r_j × n.
+bool closed_form_pinv(Block& k, const double* n, const double (*ua)[3]) {
+    const int m = static_cast<int>(k.count);
+    double a[16];
+    std::copy_n(k.k, 16, a);
+    double u[4] = {0, 0, 0, 0}, s = 0;
+    if (m == 4) {
+        // u_j: the signed 3 × 3 minors of the rows (1, x_j, y_j), (x, y) the points' lever arms
+        // in the plane ⟂ n.
+        double t1[3], t2[3], x[4], y[4], span = 0;
+        tangent_basis(n, t1, t2);
+        for (int j = 0; j < 4; ++j) {
+            x[j] = dot(ua[j], t1), y[j] = dot(ua[j], t2);
+            span = std::max({span, std::abs(x[j] - x[0]), std::abs(y[j] - y[0])});
+        }
+        auto minor = [&](int i0, int i1, int i2) {
+            return (x[i1] - x[i0]) * (y[i2] - y[i0]) - (x[i2] - x[i0]) * (y[i1] - y[i0]);
+        };
+        u[0] = minor(1, 2, 3), u[1] = -minor(0, 2, 3), u[2] = minor(0, 1, 3), u[3] = -minor(0, 1, 2);
+        const double norm = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2] + u[3] * u[3]);
+        if (!(norm > 1e-6 * span * span)) return false;
+        for (double& c : u) c /= norm;
+        s = (a[0] + a[5] + a[10] + a[15]) / 4;
+        for (int p = 0; p < 4; ++p)
+            for (int q = 0; q < 4; ++q) a[4 * p + q] += s * u[p] * u[q];
+    }
+    if (!invert_spd_checked(a, m)) return false;
+    for (int p = 0; p < 4; ++p)
+        for (int q = 0; q < 4; ++q) k.inv[4 * p + q] = p < m && q < m ? a[4 * p + q] - (m == 4 ? u[p] * u[q] / s : 0.0) : 0.0;
+    return true;
+}
+
 } // namespace
 
 bool Solver::solve_block(Block& k, std::size_t first, const std::vector<Body>& from) {
@@ -671,41 +726,87 @@ bool Solver::solve_block(Block& k, std::size_t first, const std::vector<Body>& f
     // for up to four). K of a face's four points has rank 3 (+1e-9 of its diagonal keeps
     // the full set solvable; a set of three solves it exactly).
     const std::size_t m = k.count;
+    const Row& c0 = rows_[first];
+    const double* n = c0.n;
     double b[4] = {0, 0, 0, 0}, bias[4] = {0, 0, 0, 0};
-    for (std::size_t i = 0; i < m; ++i) {
-        const Row& c = rows_[first + i];
-        b[i] = normal_velocity(c, from[c.a], from[c.b]);
-        bias[i] = c.bias;
+    {
+        const Body& A = from[c0.a];
+        const Body& B = from[c0.b];
+        const double vn = (A.v[0] - B.v[0]) * n[0] + (A.v[1] - B.v[1]) * n[1] + (A.v[2] - B.v[2]) * n[2];
+        for (std::size_t i = 0; i < m; ++i) {
+            b[i] = vn + dot(A.w, k.ua[i]) - dot(B.w, k.ub[i]);
+            bias[i] = rows_[first + i].bias;
+        }
     }
     for (std::size_t i = 0; i < m; ++i)
         for (std::size_t j = 0; j < m; ++j) b[i] -= k.k[4 * i + j] * rows_[first + j].jn;
     double x[4];
     if (!solve_lcp(k, b, bias, x)) return false;
+    double total = 0, wa[3] = {0, 0, 0}, wb[3] = {0, 0, 0};
     for (std::size_t j = 0; j < m; ++j) {
         Row& c = rows_[first + j];
         const double l = x[j] - c.jn;
         c.jn = x[j];
-        if (l != 0) apply_normal(c, l, bodies_);
+        total += l;
+        for (int d = 0; d < 3; ++d) wa[d] += l * k.ia[j][d], wb[d] += l * k.ib[j][d];
+    }
+    Body& A = bodies_[c0.a];
+    Body& B = bodies_[c0.b];
+    for (int d = 0; d < 3; ++d) {
+        A.v[d] += A.im * total * n[d];
+        B.v[d] -= B.im * total * n[d];
+        A.w[d] += wa[d];
+        B.w[d] -= wb[d];
     }
     return true;
 }
 
 
 bool Solver::solve_lcp(Block& k, const double* b, const double* bias, double* x) const {
-    // Always from the largest set down, so that of the many impulses that hold a face (its
-    // four points' K has rank 3) the same, symmetric ones are chosen; the inverse of the
-    // full set, tried most, is kept.
-    const SetOrder& order = kSetOrders[k.count];
-    for (int i = 0; i < order.count; ++i) {
-        for (int j = 0; j < 4; ++j) x[j] = 0;
-        if (try_set(k, order.sets[i], b, bias, x, i > 0)) return true;
+    // From the largest set down, so that of the many impulses that hold a face (its four
+    // points' K has rank 3) the same, symmetric ones are chosen: the full set first (its
+    // pseudo-inverse kept by fill_block), then the set that solved the block last (its inverse
+    // kept: the iterations of a step mostly find the same points pressing), then every other
+    // set, largest first.
+    const std::size_t m = k.count;
+    const unsigned full = (1u << m) - 1;
+    const SetOrder& order = kSetOrders[m];
+    auto clear = [x] { std::fill_n(x, 4, 0.0); };
+    clear();
+    if (try_set(k, full, k.inv, b, bias, x)) return true;
+    if (k.last_known) {
+        clear();
+        if (try_set(k, k.last_set, k.last_inv, b, bias, x)) return true;
+    }
+    for (int i = 1; i < order.count; ++i) {
+        const unsigned set = order.sets[i];
+        if (k.last_known && set == k.last_set) continue;
+        double local[16];
+        int idx[4], n = 0;
+        for (std::size_t j = 0; j < m; ++j)
+            if (set & (1u << j)) idx[n++] = static_cast<int>(j);
+        for (int p = 0; p < n; ++p) { // (K_SS + 1e-9 diag)⁻¹
+            for (int q = 0; q < n; ++q) local[4 * p + q] = k.k[4 * idx[p] + idx[q]];
+            local[4 * p + p] *= 1 + 1e-9;
+        }
+        if (n > 0) invert_spd(local, n);
+        clear();
+        if (try_set(k, set, local, b, bias, x)) {
+            k.last_set = set;
+            k.last_known = true;
+            std::copy_n(local, 16, k.last_inv);
+            return true;
+        }
     }
     return false;
 }
 
 void Solver::fill_block(const Body& A, const Body& B, const double* n, const double (*ra)[3], const double (*rb)[3],
                         std::size_t m, double sa, double sb, Block& k) {
-    double ua[4][3], ub[4][3], ia[4][3], ib[4][3];
+    double(&ua)[4][3] = k.ua;
+    double(&ub)[4][3] = k.ub;
+    double(&ia)[4][3] = k.ia;
+    double(&ib)[4][3] = k.ib;
     for (std::size_t j = 0; j < m; ++j) {
         cross(ra[j], n, ua[j]);
         cross(rb[j], n, ub[j]);
@@ -713,23 +814,31 @@ void Solver::fill_block(const Body& A, const Body& B, const double* n, const dou
         mul_sym(B.ii, ub[j], ib[j]);
     }
     k.count = m;
-    Eigen::Matrix4d kk = Eigen::Matrix4d::Identity(); // padded: block-diagonal with 𝟙
     for (std::size_t p = 0; p < 4; ++p)
-        for (std::size_t q = 0; q < 4; ++q) {
+        for (std::size_t q = 0; q < 4; ++q)
             k.k[4 * p + q] = p < m && q < m ? sa * (A.im + dot(ua[p], ia[q])) + sb * (B.im + dot(ub[p], ib[q])) : 0.0;
-            if (p < m && q < m) kk(static_cast<Eigen::Index>(p), static_cast<Eigen::Index>(q)) = k.k[4 * p + q];
-        }
     // The full set's pseudo-inverse (the least impulses that do it): four points of a face
-    // give a K of rank 3, whose regularised inverse would amplify round-off unevenly.
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> es(kk);
-    const Eigen::Vector4d l = es.eigenvalues();
-    const double floor = 1e-10 * l.cwiseAbs().maxCoeff();
-    Eigen::Vector4d li;
-    for (int i = 0; i < 4; ++i) li(i) = l(i) > floor ? 1 / l(i) : 0.0;
-    const Eigen::Matrix4d pinv = es.eigenvectors() * li.asDiagonal() * es.eigenvectors().transpose();
-    for (int p = 0; p < 4; ++p)
-        for (int q = 0; q < 4; ++q) k.inv[4 * p + q] = pinv(p, q);
+    // give a K of rank 3, whose regularised inverse would amplify round-off unevenly. K u = 0
+    // for the points' affine dependency u (Σ u_j = 0, Σ u_j r_j ⟂ n: the same for both bodies,
+    // whose lever arms differ by a constant), so K⁺ = (K + s u uᵀ)⁻¹ − u uᵀ / s for unit u.
+    // Degenerate manifolds (all points on a line, points that coincide) take the
+    // eigen-decomposition.
+    if (!closed_form_pinv(k, n, ua)) {
+        Eigen::Matrix4d kk = Eigen::Matrix4d::Identity(); // padded: block-diagonal with 𝟙
+        for (std::size_t p = 0; p < m; ++p)
+            for (std::size_t q = 0; q < m; ++q) kk(static_cast<Eigen::Index>(p), static_cast<Eigen::Index>(q)) = k.k[4 * p + q];
+        const Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> es(kk);
+        const Eigen::Vector4d l = es.eigenvalues();
+        const double floor = 1e-10 * l.cwiseAbs().maxCoeff();
+        Eigen::Vector4d li;
+        for (int i = 0; i < 4; ++i) li(i) = l(i) > floor ? 1 / l(i) : 0.0;
+        const Eigen::Matrix4d pinv = es.eigenvectors() * li.asDiagonal() * es.eigenvectors().transpose();
+        for (int p = 0; p < 4; ++p)
+            for (int q = 0; q < 4; ++q) k.inv[4 * p + q] = pinv(p, q);
+    }
     k.set_known = true;
+    k.last_set = 0;
+    k.last_known = false;
 }
 
 bool Solver::correct_block(std::size_t first, Block& k) {
@@ -756,6 +865,10 @@ bool Solver::correct_block(std::size_t first, Block& k) {
     if (!deep) return false;
     // K at the lever arms of the first pass that needs it: the passes move the bodies by the
     // depth only, and K's eigen-decomposition is the cost of a pass.
+    // Jacobi: each manifold corrected as if alone, as a point row is, and the bodies moved at
+    // the end of the pass (correct_positions); split masses would divide a body's correction
+    // among its contacts and leave millimetres after the passes.
+    const bool jacobi = options_.scheme == ContactScheme::jacobi;
     if (!k.set_known) fill_block(A, B, c.n, ra, rb, m, 1.0, 1.0, k);
     double x[4];
     if (!solve_lcp(k, zero, target, x)) return false;
@@ -772,6 +885,17 @@ bool Solver::correct_block(std::size_t first, Block& k) {
     double wa[3], wb[3];
     mul_sym(A.ii, ta, wa);
     mul_sym(B.ii, tb, wb);
+    if (jacobi) {
+        for (int d = 0; d < 3; ++d) {
+            delta_[3 * c.a + d] += A.im * p[d];
+            turn_[3 * c.a + d] += wa[d];
+            if (c.plane < 0) {
+                delta_[3 * c.b + d] -= B.im * p[d];
+                turn_[3 * c.b + d] -= wb[d];
+            }
+        }
+        return true;
+    }
     for (int d = 0; d < 3; ++d) {
         A.p[d] += A.im * p[d];
         B.p[d] -= B.im * p[d];
@@ -782,22 +906,12 @@ bool Solver::correct_block(std::size_t first, Block& k) {
     return true;
 }
 
-bool Solver::try_set(Block& k, unsigned set, const double* b, const double* bias, double* x, bool fresh) const {
+bool Solver::try_set(const Block& k, unsigned set, const double* inv, const double* b, const double* bias, double* x) {
     const std::size_t m = k.count;
-    const bool full = set == (1u << m) - 1;
     int idx[4];
     int n = 0;
     for (std::size_t i = 0; i < m; ++i)
         if (set & (1u << i)) idx[n++] = static_cast<int>(i);
-    double local[16];
-    const double* inv = full ? k.inv : local;
-    if (fresh && !full) { // (K_SS + 1e-9 diag)⁻¹
-        for (int p = 0; p < n; ++p) {
-            for (int q = 0; q < n; ++q) local[4 * p + q] = k.k[4 * idx[p] + idx[q]];
-            local[4 * p + p] *= 1 + 1e-9;
-        }
-        invert_spd(local, n);
-    }
     for (int p = 0; p < n; ++p) {
         double s = 0;
         for (int q = 0; q < n; ++q) s += inv[4 * p + q] * (bias[idx[q]] - b[idx[q]]);

@@ -98,8 +98,17 @@ struct Block {
     double reach;         // mean distance of the points from the centre, m
     double mu;
     double jt1, jt2, jtw; // accumulated friction impulses and twist (N·s, N·m·s)
+    // Point j's r_a × n and r_b × n, and I_a⁻¹ (r_a × n), I_b⁻¹ (r_b × n): a point's normal
+    // velocity is n·(v_a − v_b) + ω_a·(r_a × n) − ω_b·(r_b × n), and the points' impulses
+    // λ_j n turn the bodies by Σ λ_j I⁻¹ (r × n), once per body.
+    double ua[4][3], ub[4][3], ia[4][3], ib[4][3];
     bool set_known = false; // fill_block: inv holds K's pseudo-inverse (all the points pressing)
     double inv[16];
+    // The last smaller set that solved the block and its (K_SS + 1e-9 diag)⁻¹: the iterations
+    // of a step mostly find the same points pressing, tried right after the full set.
+    unsigned last_set = 0;
+    bool last_known = false; // last_set is set (the empty set too: points held apart)
+    double last_inv[16];
 };
 
 inline double dot(const double* a, const double* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
@@ -308,10 +317,10 @@ private:
     /// The normal impulses of the block from rows_[first]; false (nothing applied) when one
     /// of them would pull.
     bool solve_block(Block& k, std::size_t first, const std::vector<Body>& from);
-    /// The impulses x when exactly the points of `set` press (b, bias: solve_block); false
-    /// when one of them would pull or a point left out would sink. The full set uses k.inv;
-    /// another set's K_SS (+1e-9 of its diagonal) is inverted here.
-    bool try_set(Block& k, unsigned set, const double* b, const double* bias, double* x, bool fresh) const;
+    /// The impulses x when exactly the points of `set` press (b, bias: solve_block), with
+    /// `inv` the inverse of K_SS (row-major, stride 4); false when one of them would pull or a
+    /// point left out would sink.
+    static bool try_set(const Block& k, unsigned set, const double* inv, const double* b, const double* bias, double* x);
     /// x ≥ 0 with w = b + K x ≥ bias, complementary, from the largest set of pressing points down.
     bool solve_lcp(Block& k, const double* b, const double* bias, double* x) const;
     /// K of m points with lever arms ra, rb and normal n between A and B (split masses sa, sb).

@@ -155,7 +155,7 @@ struct Recorder::Impl {
         if (!times.empty()) throw std::logic_error("Recorder: what to draw is declared before the first capture");
     }
     std::size_t add_body(ViewBody b) {
-        floats_per_frame += b.kind == ViewBody::Kind::sphere ? 3 : 6;
+        floats_per_frame += b.kind == ViewBody::Kind::rod ? 6 : 3;
         quaternions_per_frame += b.oriented ? 1 : 0;
         bodies.push_back(std::move(b));
         return bodies.size() - 1;
@@ -234,7 +234,16 @@ void Recorder::add_rigid_bodies(const World& w, const ComponentSet& bodies) {
     impl_->declare();
     const Registry& reg = w.layout().components;
     std::vector<Index> idx(bodies.indices().begin(), bodies.indices().end());
+    const bool shaped = shape_field(w.layout()) >= 0;
     for (const Index c : idx) {
+        const Shape shape = shaped ? shape_of(w, c) : Shape::sphere;
+        if (shape != Shape::sphere) {
+            const Eigen::Vector3d h = half_extents(w, c);
+            ViewBody b{reg.label(c), shape == Shape::box ? ViewBody::Kind::box : ViewBody::Kind::capsule,
+                       shape == Shape::box ? 0.0 : w.at(kRadius, c), true, "bodies", {h.x(), h.y(), h.z()}};
+            impl_->add_body(std::move(b));
+            continue;
+        }
         double r = w.at(kRadius, c);
         if (!(r > 0)) { // no collision sphere: the uniform sphere of the same mean moment of inertia
             const double m = w.at(kMass, c), mean_i = (w.at(kIxx, c) + w.at(kIyy, c) + w.at(kIzz, c)) / 3;
@@ -407,9 +416,14 @@ std::string Recorder::html() const {
     meta += ",\"bodies\":[";
     for (std::size_t i = 0; i < m.bodies.size(); ++i) {
         const ViewBody& b = m.bodies[i];
+        static constexpr const char* kKinds[] = {"\"sphere\"", "\"rod\"", "\"box\"", "\"capsule\""};
         meta += (i ? "," : "") + std::string("{\"name\":") + json_string(b.name) + ",\"kind\":" +
-                (b.kind == ViewBody::Kind::sphere ? "\"sphere\"" : "\"rod\"") + ",\"radius\":" + json_number(b.radius) +
-                ",\"oriented\":" + (b.oriented ? "true" : "false") + ",\"group\":" + json_string(b.group) + "}";
+                kKinds[static_cast<int>(b.kind)] + ",\"radius\":" + json_number(b.radius) +
+                ",\"oriented\":" + (b.oriented ? "true" : "false") + ",\"group\":" + json_string(b.group);
+        if (b.kind == ViewBody::Kind::box || b.kind == ViewBody::Kind::capsule)
+            meta += ",\"half_extents\":[" + json_number(b.half_extents[0]) + "," + json_number(b.half_extents[1]) + "," +
+                    json_number(b.half_extents[2]) + "]";
+        meta += "}";
     }
     meta += "],\"planes\":[";
     for (std::size_t i = 0; i < m.planes.size(); ++i) {

@@ -19,7 +19,7 @@
   const posAt = [], quatAt = [];
   for (const b of bodies) {
     posAt.push(floatsPerFrame);
-    floatsPerFrame += b.kind === 'sphere' ? 3 : 6;
+    floatsPerFrame += b.kind === 'rod' ? 6 : 3;
     quatAt.push(b.oriented ? quatsPerFrame++ : -1);
   }
   const expected = 8 * F * (1 + S) + 4 * F * floatsPerFrame + 8 * F * quatsPerFrame;
@@ -100,15 +100,29 @@
     scene.add(mesh);
     return { mesh: mesh, list: list, colours: colours };
   }
-  const autoRadius = { sphere: 0.025 * extent, rod: 0.008 * extent };
+  const autoRadius = { sphere: 0.025 * extent, rod: 0.008 * extent, box: 0, capsule: 0 }; // a box's and a capsule's size are their own
   const radius = bodies.map(function (b) { return b.radius > 0 ? b.radius : autoRadius[b.kind]; });
-  const oriented = [], plain = [], rods = [];
-  bodies.forEach(function (b, i) { (b.kind === 'rod' ? rods : b.oriented ? oriented : plain).push(i); });
+  const oriented = [], plain = [], rods = [], boxes = [], capsules = new Map();
+  bodies.forEach(function (b, i) {
+    if (b.kind === 'capsule') { // one mesh per size: a capsule does not scale into another
+      const key = b.radius + ' ' + b.half_extents[1];
+      if (!capsules.has(key)) capsules.set(key, []);
+      capsules.get(key).push(i);
+    } else (b.kind === 'rod' ? rods : b.kind === 'box' ? boxes : b.oriented ? oriented : plain).push(i);
+  });
   const detail = B > 2000 ? [10, 7] : [24, 16];
   const groups = [];
   if (oriented.length) groups.push(instanced(new THREE.SphereBufferGeometry(1, detail[0], detail[1]), oriented, true));
   if (plain.length) groups.push(instanced(new THREE.SphereBufferGeometry(1, detail[0], detail[1]), plain, false));
   if (rods.length) groups.push(instanced(new THREE.CylinderBufferGeometry(1, 1, 1, 14, 1), rods, false));
+  if (boxes.length) groups.push(instanced(new THREE.BoxBufferGeometry(1, 1, 1), boxes, false));
+  for (const list of capsules.values()) { // the outline (x = distance from the axis, y along it), turned about y
+    const r = bodies[list[0]].radius, L = bodies[list[0]].half_extents[1], outline = [], arc = detail[1];
+    for (let k = 0; k <= arc; ++k) { const a = -Math.PI / 2 + Math.PI / 2 * k / arc; outline.push(new THREE.Vector2(r * Math.cos(a), -L + r * Math.sin(a))); }
+    for (let k = 0; k <= arc; ++k) { const a = Math.PI / 2 * k / arc; outline.push(new THREE.Vector2(r * Math.cos(a), L + r * Math.sin(a))); }
+    outline[0].x = outline[outline.length - 1].x = 0;
+    groups.push(instanced(new THREE.LatheBufferGeometry(outline, detail[0]), list, false));
+  }
 
   for (const p of meta.planes) { // a square over the extent, centred where the scene's centre projects
     const n = new THREE.Vector3(p.normal[0], p.normal[1], p.normal[2]);
@@ -132,7 +146,7 @@
 
   function position(i, f) {
     const k = f * floatsPerFrame + posAt[i];
-    return Array.from(pos.subarray(k, k + (bodies[i].kind === 'sphere' ? 3 : 6)));
+    return Array.from(pos.subarray(k, k + (bodies[i].kind === 'rod' ? 6 : 3)));
   }
   function orientation(i, f) {
     if (quatAt[i] < 0) return null;
@@ -144,7 +158,7 @@
     if (F < 2) return 0;
     const a = Math.max(f - 1, 0), b = Math.min(f + 1, F - 1), ka = a * floatsPerFrame + posAt[i], kb = b * floatsPerFrame + posAt[i];
     let d2 = 0;
-    const n = bodies[i].kind === 'sphere' ? 3 : 6;
+    const n = bodies[i].kind === 'rod' ? 6 : 3;
     for (let c = 0; c < n; ++c) { const d = pos[kb + c] - pos[ka + c]; d2 += d * d; }
     const dt = times[b] - times[a];
     return dt > 0 ? Math.sqrt(d2 / (n / 3)) / dt : 0;
@@ -184,7 +198,10 @@
           v3.set(pos[p], pos[p + 1], pos[p + 2]);
           const o = orientation(i, f);
           if (o) q4.set(o[1], o[2], o[3], o[0]).normalize(); else q4.set(0, 0, 0, 1);
-          s3.set(r, r, r);
+          const h = bodies[i].half_extents;
+          if (bodies[i].kind === 'box') s3.set(2 * h[0], 2 * h[1], 2 * h[2]);
+          else if (bodies[i].kind === 'capsule') s3.set(1, 1, 1);
+          else s3.set(r, r, r);
         }
         m4.compose(v3, q4, s3);
         g.mesh.setMatrixAt(k, m4);
@@ -229,7 +246,7 @@
       scene.remove(trails.get(i).line);
       trails.delete(i);
     } else {
-      const n = bodies[i].kind === 'sphere' ? 3 : 6, data = new Float32Array(3 * F);
+      const n = bodies[i].kind === 'rod' ? 6 : 3, data = new Float32Array(3 * F);
       for (let f = 0; f < F; ++f) {
         const p = f * floatsPerFrame + posAt[i];
         for (let c = 0; c < 3; ++c) data[3 * f + c] = n === 3 ? pos[p + c] : pos[p + 3 + c];
@@ -436,6 +453,16 @@
         const p = new THREE.Vector3(), q = new THREE.Quaternion(), s = new THREE.Vector3();
         m.decompose(p, q, s);
         return { position: [p.x, p.y, p.z], quaternion: [q.w, q.x, q.y, q.z], scale: [s.x, s.y, s.z] };
+      }
+      return null;
+    },
+    /// the bounds of the mesh body i is drawn with, before its instance's scale: [min, max]
+    geometryBounds: function (i) {
+      for (const g of groups) {
+        if (g.list.indexOf(i) < 0) continue;
+        g.mesh.geometry.computeBoundingBox();
+        const b = g.mesh.geometry.boundingBox;
+        return [[b.min.x, b.min.y, b.min.z], [b.max.x, b.max.y, b.max.z]];
       }
       return null;
     }

@@ -18,6 +18,7 @@
 #include "phynjo/runtime/core/world.hpp"
 #include "phynjo/runtime/system/lagrangian_system.hpp"
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -41,14 +42,18 @@ struct RecorderOptions {
 };
 
 /// Something drawn (file comment): a sphere (centre, radius, and an orientation when it is a
-/// rigid body), or a rod (two ends; radius 0: the page chooses one from the scene's size).
+/// rigid body), a rod (two ends; radius 0: the page chooses one from the scene's size), a box
+/// or a capsule (centre and orientation, as a rigid body's Shape: half_extents (a, b, c) along
+/// body x, y, z; a capsule's radius around the segment from (0, −L, 0) to (0, L, 0), L =
+/// half_extents[1]).
 struct ViewBody {
-    enum class Kind : std::uint8_t { sphere, rod };
+    enum class Kind : std::uint8_t { sphere, rod, box, capsule };
     std::string name;
     Kind kind = Kind::sphere;
     double radius = 0; ///< m
     bool oriented = false;
     std::string group; ///< what it belongs to ("bodies", a model instance's name …), for the page's legend
+    std::array<double, 3> half_extents{}; ///< m: a box's, or a capsule's (0, L, 0)
 };
 
 /// A time series beside the 3-D view, in a group the page plots together.
@@ -67,9 +72,10 @@ public:
     Recorder& operator=(const Recorder&) = delete;
 
     // ---- what to draw: declared before the first capture (else std::logic_error) -----------
-    /// Rigid bodies of a rigid world or scene (fields of rigid_world.hpp): spheres of the body's
-    /// collision radius (or, with radius 0, of the radius of a uniform sphere with its mean
-    /// moment of inertia, √(5 Ī / 2m)), oriented; and the series "kinetic energy" (J).
+    /// Rigid bodies of a rigid world or scene (fields of rigid_world.hpp), oriented: boxes and
+    /// capsules as their shapes, spheres of the body's collision radius (or, with radius 0, of
+    /// the radius of a uniform sphere with its mean moment of inertia, √(5 Ī / 2m)); and the
+    /// series "kinetic energy" (J).
     void add_rigid_bodies(const World& w, const ComponentSet& bodies);
     /// Static planes, drawn as squares over the scene's extent.
     void add_planes(std::span<const Plane> planes);
