@@ -43,25 +43,7 @@ int main(int argc, char** argv) {
     Recorder page({.title = "300 capsules poured into a box (e = 0.1, mu = 0.4, nothing asleep)"});
     page.add_rigid_bodies(w, all_bodies(w));
     page.add_planes(planes);
-    std::ofstream hist(dir / "capsule_pour_history.csv");
-    hist << "t,kinetic_energy,max_speed,max_penetration_mm\n";
-    const int steps = static_cast<int>(std::lround(t_end / dt));
-    for (int s = 0; s <= steps; ++s) {
-        page.capture(w);
-        if (s % 4 == 0) {
-            double vmax = 0;
-            for (Index i = 0; i < w.size(); ++i) vmax = std::max(vmax, velocity(w, i).norm());
-            hist << s * dt << ',' << rigid_kinetic_energy(w) << ',' << vmax << ','
-                 << 1e3 * max_penetration(w, all_bodies(w), planes) << '\n';
-        }
-        if (s < steps) {
-            const RunReport rep = stepper.run_guarded(w, dt, 1);
-            if (!rep.completed) {
-                std::printf("stopped: %s\n", rep.reason.c_str());
-                return 1;
-            }
-        }
-    }
+    if (!run_settling(w, stepper, dt, t_end, page, dir / "capsule_pour_history.csv", planes)) return 1;
     std::size_t rest = 0;
     double top = 0;
     for (Index i = 0; i < w.size(); ++i) {

@@ -646,30 +646,15 @@ struct SetOrder {
 const SetOrder kSetOrders[5] = {SetOrder(0), SetOrder(1), SetOrder(2), SetOrder(3), SetOrder(4)};
 
 /// In place: the inverse of the symmetric positive definite n × n matrix a (row-major,
-/// stride 4), by Gauss–Jordan elimination (no pivoting is needed for such a matrix).
-void invert_spd(double* a, int n) {
-    for (int k = 0; k < n; ++k) {
-        const double p = 1 / a[4 * k + k];
-        a[4 * k + k] = 1;
-        for (int j = 0; j < n; ++j) a[4 * k + j] *= p;
-        for (int i = 0; i < n; ++i) {
-            if (i == k) continue;
-            const double f = a[4 * i + k];
-            a[4 * i + k] = 0;
-            for (int j = 0; j < n; ++j) a[4 * i + j] -= f * a[4 * k + j];
-        }
-    }
-}
-
-/// In place: as invert_spd, false (a left in pieces) when a pivot falls below 1e-9 of its
-/// diagonal entry, the matrix then singular to working precision.
-bool invert_spd_checked(double* a, int n) {
+/// stride 4) by Gauss–Jordan elimination (no pivoting needed); false (a left in pieces) when a
+/// pivot falls to `floor` of its diagonal entry or below: singular to working precision.
+bool invert_spd_checked(double* a, int n, double floor = 1e-9) {
     for (int k = 0; k < n; ++k)
         if (!(a[4 * k + k] > 0)) return false;
     double diag[4];
     for (int k = 0; k < n; ++k) diag[k] = a[4 * k + k];
     for (int k = 0; k < n; ++k) {
-        if (!(a[4 * k + k] > 1e-9 * diag[k])) return false;
+        if (!(a[4 * k + k] > floor * diag[k])) return false;
         const double p = 1 / a[4 * k + k];
         a[4 * k + k] = 1;
         for (int j = 0; j < n; ++j) a[4 * k + j] *= p;
@@ -682,6 +667,9 @@ bool invert_spd_checked(double* a, int n) {
     }
     return true;
 }
+
+/// invert_spd_checked for a matrix known to be positive definite (K_SS + 1e-9 diag).
+void invert_spd(double* a, int n) { invert_spd_checked(a, n, 0.0); }
 
 /// K⁺ of a block into k.inv without an eigen-decomposition (fill_block); false when the
 /// manifold is degenerate. ua_j = r_j × n.
