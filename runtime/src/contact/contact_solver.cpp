@@ -1,12 +1,10 @@
 // The contact rule: narrow phase → position correction → collisions → contact impulses;
 // the maths in solver.hpp.
+#include "block_inverse.hpp"
 #include "solver.hpp"
 
 #include "phynjo/runtime/core/errors.hpp"
 #include "phynjo/runtime/rigid/rigid_world.hpp"
-
-#include <Eigen/Eigenvalues>
-
 
 #include <algorithm>
 #include <bit>
@@ -645,65 +643,6 @@ struct SetOrder {
 };
 const SetOrder kSetOrders[5] = {SetOrder(0), SetOrder(1), SetOrder(2), SetOrder(3), SetOrder(4)};
 
-/// In place: the inverse of the symmetric positive definite n × n matrix a (row-major,
-/// stride 4) by Gauss–Jordan elimination (no pivoting needed); false (a left in pieces) when a
-/// pivot falls to `floor` of its diagonal entry or below: singular to working precision.
-bool invert_spd_checked(double* a, int n, double floor = 1e-9) {
-    for (int k = 0; k < n; ++k)
-        if (!(a[4 * k + k] > 0)) return false;
-    double diag[4];
-    for (int k = 0; k < n; ++k) diag[k] = a[4 * k + k];
-    for (int k = 0; k < n; ++k) {
-        if (!(a[4 * k + k] > floor * diag[k])) return false;
-        const double p = 1 / a[4 * k + k];
-        a[4 * k + k] = 1;
-        for (int j = 0; j < n; ++j) a[4 * k + j] *= p;
-        for (int i = 0; i < n; ++i) {
-            if (i == k) continue;
-            const double f = a[4 * i + k];
-            a[4 * i + k] = 0;
-            for (int j = 0; j < n; ++j) a[4 * i + j] -= f * a[4 * k + j];
-        }
-    }
-    return true;
-}
-
-/// invert_spd_checked for a matrix known to be positive definite (K_SS + 1e-9 diag).
-void invert_spd(double* a, int n) { invert_spd_checked(a, n, 0.0); }
-
-/// K⁺ of a block into k.inv without an eigen-decomposition (fill_block); false when the
-/// manifold is degenerate. ua_j = r_j × n.
-bool closed_form_pinv(Block& k, const double* n, const double (*ua)[3]) {
-    const int m = static_cast<int>(k.count);
-    double a[16];
-    std::copy_n(k.k, 16, a);
-    double u[4] = {0, 0, 0, 0}, s = 0;
-    if (m == 4) {
-        // u_j: the signed 3 × 3 minors of the rows (1, x_j, y_j), (x, y) the points' lever arms
-        // in the plane ⟂ n.
-        double t1[3], t2[3], x[4], y[4], span = 0;
-        tangent_basis(n, t1, t2);
-        for (int j = 0; j < 4; ++j) {
-            x[j] = dot(ua[j], t1), y[j] = dot(ua[j], t2);
-            span = std::max({span, std::abs(x[j] - x[0]), std::abs(y[j] - y[0])});
-        }
-        auto minor = [&](int i0, int i1, int i2) {
-            return (x[i1] - x[i0]) * (y[i2] - y[i0]) - (x[i2] - x[i0]) * (y[i1] - y[i0]);
-        };
-        u[0] = minor(1, 2, 3), u[1] = -minor(0, 2, 3), u[2] = minor(0, 1, 3), u[3] = -minor(0, 1, 2);
-        const double norm = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2] + u[3] * u[3]);
-        if (!(norm > 1e-6 * span * span)) return false;
-        for (double& c : u) c /= norm;
-        s = (a[0] + a[5] + a[10] + a[15]) / 4;
-        for (int p = 0; p < 4; ++p)
-            for (int q = 0; q < 4; ++q) a[4 * p + q] += s * u[p] * u[q];
-    }
-    if (!invert_spd_checked(a, m)) return false;
-    for (int p = 0; p < 4; ++p)
-        for (int q = 0; q < 4; ++q) k.inv[4 * p + q] = p < m && q < m ? a[4 * p + q] - (m == 4 ? u[p] * u[q] / s : 0.0) : 0.0;
-    return true;
-}
-
 } // namespace
 
 bool Solver::solve_block(Block& k, std::size_t first, const std::vector<Body>& from) {
@@ -806,24 +745,11 @@ void Solver::fill_block(const Body& A, const Body& B, const double* n, const dou
         for (std::size_t q = 0; q < 4; ++q)
             k.k[4 * p + q] = p < m && q < m ? sa * (A.im + dot(ua[p], ia[q])) + sb * (B.im + dot(ub[p], ib[q])) : 0.0;
     // The full set's pseudo-inverse (the least impulses that do it): four points of a face
-    // give a K of rank 3, whose regularised inverse would amplify round-off unevenly. K u = 0
-    // for the points' affine dependency u (Σ u_j = 0, Σ u_j r_j ⟂ n: the same for both bodies,
-    // whose lever arms differ by a constant), so K⁺ = (K + s u uᵀ)⁻¹ − u uᵀ / s for unit u.
-    // Degenerate manifolds (all points on a line, points that coincide) take the
-    // eigen-decomposition.
-    if (!closed_form_pinv(k, n, ua)) {
-        Eigen::Matrix4d kk = Eigen::Matrix4d::Identity(); // padded: block-diagonal with 𝟙
-        for (std::size_t p = 0; p < m; ++p)
-            for (std::size_t q = 0; q < m; ++q) kk(static_cast<Eigen::Index>(p), static_cast<Eigen::Index>(q)) = k.k[4 * p + q];
-        const Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> es(kk);
-        const Eigen::Vector4d l = es.eigenvalues();
-        const double floor = 1e-10 * l.cwiseAbs().maxCoeff();
-        Eigen::Vector4d li;
-        for (int i = 0; i < 4; ++i) li(i) = l(i) > floor ? 1 / l(i) : 0.0;
-        const Eigen::Matrix4d pinv = es.eigenvectors() * li.asDiagonal() * es.eigenvectors().transpose();
-        for (int p = 0; p < 4; ++p)
-            for (int q = 0; q < 4; ++q) k.inv[4 * p + q] = pinv(p, q);
-    }
+    // give a K of rank 3, whose regularised inverse would amplify round-off unevenly; its
+    // closed form (block_inverse.hpp), the eigen-decomposition for degenerate manifolds.
+    double t1[3], t2[3];
+    tangent_basis(n, t1, t2);
+    if (!closed_form_pinv(k.k, static_cast<int>(m), t1, t2, ua, k.inv)) eigen_pinv(k.k, static_cast<int>(m), k.inv);
     k.set_known = true;
     k.last_set = 0;
     k.last_known = false;
@@ -852,7 +778,7 @@ bool Solver::correct_block(std::size_t first, Block& k) {
     }
     if (!deep) return false;
     // K at the lever arms of the first pass that needs it: the passes move the bodies by the
-    // depth only, and K's eigen-decomposition is the cost of a pass.
+    // depth only, and K's pseudo-inverse is the cost of a pass.
     // Jacobi: each manifold corrected as if alone, as a point row is, and the bodies moved at
     // the end of the pass (correct_positions); split masses would divide a body's correction
     // among its contacts and leave millimetres after the passes.
