@@ -168,15 +168,18 @@ TEST_CASE("three of four points on a line, and fewer points, still take the clos
 
 TEST_CASE("degenerate manifolds are refused by the closed form and solved by the eigen-decomposition",
           "[contact][block]") {
-    // Points on one line, or coinciding: K's rank falls below the closed form's assumption.
+    // Points on one line (or within round-off of one), or coinciding: K's rank falls below the
+    // closed form's assumption.
     // Accepted, its inverse would be garbage (a pivot of round-off).
     std::mt19937 rng(39);
     for (int trial = 0; trial < 1000; ++trial) {
         std::uniform_real_distribution<double> u(-0.5, 0.5);
         const Eigen::Vector2d a(u(rng), u(rng)), b(u(rng), u(rng));
+        const Eigen::Vector2d off = 1e-9 * Eigen::Vector2d(a.y() - b.y(), b.x() - a.x()); // ⟂ the line, 1e-9 of it
         const bool plane = trial % 2 == 0;
         const std::vector<std::vector<Eigen::Vector2d>> cases = {
-            {a, b, 0.3 * a + 0.7 * b, -0.5 * a + 1.5 * b}, // four on a line (an edge on an edge)
+            {a, b, 0.3 * a + 0.7 * b, -0.5 * a + 1.5 * b},       // four on a line (an edge on an edge)
+            {a, b, 0.3 * a + 0.7 * b + off, -0.5 * a + 1.5 * b}, // four within 1e-9 of a line
             {a, b, 0.6 * a + 0.4 * b},                     // three on a line
             {a, a},                                        // two coinciding
         };
