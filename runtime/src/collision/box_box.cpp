@@ -72,22 +72,24 @@ void box_box(const OBB& a, const OBB& b, double margin, Manifold& out) {
         if (s > fb.sep) fb = {s, j};
     }
     if (fb.sep > margin) return;
-    Eigen::Vector3d edge_axis = Eigen::Vector3d::Zero();
-    for (int i = 0; i < 3; ++i)
+    // Edge axes l = a_i × b_j, in a's frame through c and tₐ = Rₐᵀ d (Gottschalk, Lin & Manocha,
+    // "OBBTree", 1996): |l| = √(1 − c_ij²), l·a_{i+1} = −c_{i+2,j}, l·a_{i+2} = c_{i+1,j},
+    // l·b_{j+1} = c_{i,j+2}, l·b_{j+2} = −c_{i,j+1}, d·l = tₐ_{i+2} c_{i+1,j} − tₐ_{i+1} c_{i+2,j}.
+    const Eigen::Vector3d ta = ra.transpose() * d;
+    for (int i = 0; i < 3; ++i) {
+        const int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
         for (int j = 0; j < 3; ++j) {
-            Eigen::Vector3d l = ra.col(i).cross(rb.col(j));
-            const double len = l.norm();
-            if (len < 1e-6) continue; // parallel edges: the face axes cover them
-            l /= len;
-            double r = 0;
-            for (int k = 0; k < 3; ++k) r += ha(k) * std::abs(l.dot(ra.col(k))) + hb(k) * std::abs(l.dot(rb.col(k)));
-            const double s = std::abs(d.dot(l)) - r;
-            if (s > edge.sep) {
-                edge = {s, 3 * i + j};
-                edge_axis = l;
-            }
+            const int j1 = (j + 1) % 3, j2 = (j + 2) % 3;
+            const double len2 = 1 - c(i, j) * c(i, j);
+            if (len2 < 1e-12) continue; // parallel edges: the face axes cover them
+            const double r = ha(i1) * ac(i2, j) + ha(i2) * ac(i1, j) + hb(j1) * ac(i, j2) + hb(j2) * ac(i, j1);
+            const double s = (std::abs(ta(i2) * c(i1, j) - ta(i1) * c(i2, j)) - r) / std::sqrt(len2);
+            if (s > edge.sep) edge = {s, 3 * i + j};
         }
+    }
     if (edge.sep > margin) return;
+    const Eigen::Vector3d edge_axis =
+        edge.index >= 0 ? Eigen::Vector3d(ra.col(edge.index / 3).cross(rb.col(edge.index % 3)).normalized()) : Eigen::Vector3d::Zero();
 
     // Prefer a's faces to b's and faces to edges unless the other separates clearly more
     // (Gregorius 2015): resting boxes keep one reference face from step to step.

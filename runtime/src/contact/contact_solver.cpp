@@ -324,11 +324,13 @@ void Solver::setup_blocks() {
     // Each manifold of 2 to 4 points: K_ij = (1/m_a + 1/m_b) + (r_ai × n)·I_a⁻¹(r_aj × n) +
     // (r_bi × n)·I_b⁻¹(r_bj × n) (Jacobi: the split masses).
     blocks_.clear();
+    schedule_.clear();
     const bool jacobi = options_.scheme == ContactScheme::jacobi;
     for (std::size_t i = 0; i < rows_.size();) {
         Row& c = rows_[i];
         c.block = -1;
         if (!c.point || c.block_size < 2) {
+            schedule_.push_back(static_cast<std::int64_t>(i));
             ++i;
             continue;
         }
@@ -340,7 +342,10 @@ void Solver::setup_blocks() {
         const Body& A = bodies_[c.a];
         const Body& B = bodies_[c.b];
         const double sa = jacobi ? split_[c.a] : 1.0, sb = jacobi ? split_[c.b] : 1.0;
-        fill_block(A, B, c.n, ra, rb, m, sa, sb, b);
+        fill_block(A, B, c.n, ra, rb, m, sa, sb, c.plane >= 0, b);
+        b.a = c.a;
+        b.b = c.b;
+        b.first = i;
         for (int d = 0; d < 3; ++d) {
             b.ra[d] = b.rb[d] = 0;
             for (std::size_t j = 0; j < m; ++j) b.ra[d] += ra[j][d] / static_cast<double>(m), b.rb[d] += rb[j][d] / static_cast<double>(m);
@@ -362,14 +367,15 @@ void Solver::setup_blocks() {
             rows_[i + j].block = static_cast<int>(blocks_.size());
             rows_[i + j].jt1 = rows_[i + j].jt2 = 0;
         }
+        schedule_.push_back(-1 - static_cast<std::int64_t>(blocks_.size()));
         blocks_.push_back(b);
         i += m;
     }
 }
 
-void Solver::apply_central(const Block& k, const Row& c, double l1, double l2, double ltw, std::vector<Body>& B) const {
-    Body& A = B[c.a];
-    Body& Bb = B[c.b];
+void Solver::apply_central(const Block& k, double l1, double l2, double ltw, std::vector<Body>& B) {
+    Body& A = B[k.a];
+    Body& Bb = B[k.b];
     double p[3], u[3], i[3];
     for (int d = 0; d < 3; ++d) {
         p[d] = l1 * k.t1[d] + l2 * k.t2[d];
@@ -377,11 +383,11 @@ void Solver::apply_central(const Block& k, const Row& c, double l1, double l2, d
         Bb.v[d] -= Bb.im * p[d];
     }
     cross(k.ra, p, u);
-    for (int d = 0; d < 3; ++d) u[d] += ltw * c.n[d];
+    for (int d = 0; d < 3; ++d) u[d] += ltw * k.n[d];
     mul_sym(A.ii, u, i);
     for (int d = 0; d < 3; ++d) A.w[d] += i[d];
     cross(k.rb, p, u);
-    for (int d = 0; d < 3; ++d) u[d] += ltw * c.n[d];
+    for (int d = 0; d < 3; ++d) u[d] += ltw * k.n[d];
     mul_sym(Bb.ii, u, i);
     for (int d = 0; d < 3; ++d) Bb.w[d] -= i[d];
 }
@@ -496,7 +502,7 @@ void Solver::warm_start(const World& w) {
         double load = 0;
         for (std::size_t j = 0; j < k.count; ++j) load += rows_[i + j].jn;
         clamp_disk(k.jt1, k.jt2, k.mu * load);
-        if (k.jt1 != 0 || k.jt2 != 0) apply_central(k, c, k.jt1, k.jt2, 0, bodies_);
+        if (k.jt1 != 0 || k.jt2 != 0) apply_central(k, k.jt1, k.jt2, 0, bodies_);
     }
 }
 
@@ -537,7 +543,7 @@ void Solver::collisions(double dt) {
                 for (int d = 0; d < 3; ++d) dv[d] = A.v[d] + wa[d] - B.v[d] - wb[d];
                 double l1 = -dot(dv, k.t1) * k.mt1, l2 = -dot(dv, k.t2) * k.mt2;
                 clamp_disk(l1, l2, k.mu * load);
-                if (l1 != 0 || l2 != 0) apply_central(k, c, l1, l2, 0, bodies_);
+                if (l1 != 0 || l2 != 0) apply_central(k, l1, l2, 0, bodies_);
                 continue;
             }
             const double vn = normal_velocity(c, A, B);
@@ -559,6 +565,8 @@ void Solver::collisions(double dt) {
 
 void Solver::solve_contacts() {
     const bool jacobi = options_.scheme == ContactScheme::jacobi;
+    for (Block& k : blocks_)
+        for (std::size_t j = 0; j < k.count; ++j) k.jn[j] = rows_[k.first + j].jn, k.bias[j] = rows_[k.first + j].bias;
     for (int it = 0; it < options_.velocity_iterations; ++it) {
         if (jacobi) snapshot_ = bodies_;
         const std::vector<Body>& from = jacobi ? snapshot_ : bodies_;
@@ -584,46 +592,54 @@ void Solver::solve_contacts() {
             c.jn = jn;
             if (l != 0) apply_normal(c, l, bodies_);
         };
-        for (std::size_t i = 0; i < rows_.size();) {
-            Row& c = rows_[i];
-            if (c.block < 0) {
+        for (const std::int64_t item : schedule_) {
+            if (item >= 0) {
+                Row& c = rows_[static_cast<std::size_t>(item)];
                 friction(c);
                 normal(c);
-                ++i;
                 continue;
             }
             // A manifold: friction at its centre, then its points' normal impulses together.
-            Block& k = blocks_[static_cast<std::size_t>(c.block)];
+            Block& k = blocks_[static_cast<std::size_t>(-1 - item)];
             const std::size_t m = k.count;
             {
-                const Body& A = from[c.a];
-                const Body& B = from[c.b];
+                const Body& A = from[k.a];
+                const Body& B = from[k.b];
                 double wa[3], wb[3], dv[3];
                 cross(A.w, k.ra, wa);
                 cross(B.w, k.rb, wb);
                 for (int d = 0; d < 3; ++d) dv[d] = A.v[d] + wa[d] - B.v[d] - wb[d];
                 double load = 0;
-                for (std::size_t j = 0; j < m; ++j) load += rows_[i + j].jn;
+                for (std::size_t j = 0; j < m; ++j) load += k.jn[j];
                 const double limit = k.mu * load;
                 double n1 = k.jt1 - dot(dv, k.t1) * k.mt1, n2 = k.jt2 - dot(dv, k.t2) * k.mt2;
                 clamp_disk(n1, n2, limit);
-                const double wn = (A.w[0] - B.w[0]) * c.n[0] + (A.w[1] - B.w[1]) * c.n[1] + (A.w[2] - B.w[2]) * c.n[2];
+                const double wn = (A.w[0] - B.w[0]) * k.n[0] + (A.w[1] - B.w[1]) * k.n[1] + (A.w[2] - B.w[2]) * k.n[2];
                 const double ntw = std::clamp(k.jtw - wn * k.mtw, -limit * k.reach, limit * k.reach);
                 const double l1 = n1 - k.jt1, l2 = n2 - k.jt2, ltw = ntw - k.jtw;
                 k.jt1 = n1, k.jt2 = n2, k.jtw = ntw;
-                if (l1 != 0 || l2 != 0 || ltw != 0) apply_central(k, c, l1, l2, ltw, bodies_);
+                if (l1 != 0 || l2 != 0 || ltw != 0) apply_central(k, l1, l2, ltw, bodies_);
             }
-            if (!solve_block(k, i, jacobi ? from : bodies_))
-                for (std::size_t j = 0; j < m; ++j) normal(rows_[i + j]);
-            // The centre's friction is cached with the first pressing point (warm_start sums them).
-            for (std::size_t j = 0, held = 0; j < m; ++j) {
-                Row& r = rows_[i + j];
-                const bool carry = held == 0 && r.jn > 0;
-                r.jt1 = carry ? k.jt1 : 0.0;
-                r.jt2 = carry ? k.jt2 : 0.0;
-                held += carry ? 1 : 0;
+            if (!solve_block(k, jacobi ? from : bodies_)) { // its points one by one, as rows
+                Row* r = &rows_[k.first];
+                for (std::size_t j = 0; j < m; ++j) {
+                    r[j].jn = k.jn[j];
+                    normal(r[j]);
+                    k.jn[j] = r[j].jn;
+                }
             }
-            i += m;
+        }
+    }
+    // Back into the rows (store_cache): the normal impulses, and the centre's friction cached
+    // with the first pressing point (warm_start sums them).
+    for (const Block& k : blocks_) {
+        Row* r = &rows_[k.first];
+        for (std::size_t j = 0, held = 0; j < k.count; ++j) {
+            r[j].jn = k.jn[j];
+            const bool carry = held == 0 && r[j].jn > 0;
+            r[j].jt1 = carry ? k.jt1 : 0.0;
+            r[j].jt2 = carry ? k.jt2 : 0.0;
+            held += carry ? 1 : 0;
         }
     }
 }
@@ -645,7 +661,7 @@ const SetOrder kSetOrders[5] = {SetOrder(0), SetOrder(1), SetOrder(2), SetOrder(
 
 } // namespace
 
-bool Solver::solve_block(Block& k, std::size_t first, const std::vector<Body>& from) {
+bool Solver::solve_block(Block& k, const std::vector<Body>& from) {
     // The manifold's linear complementarity problem, solved exactly: with a the accumulated
     // impulses, v the normal velocities and b = v − K a (the velocities without them), find
     // x ≥ 0 with w = b + K x ≥ bias and x_i (w_i − bias_i) = 0, by trying the sets of
@@ -653,32 +669,32 @@ bool Solver::solve_block(Block& k, std::size_t first, const std::vector<Body>& f
     // for up to four). K of a face's four points has rank 3 (+1e-9 of its diagonal keeps
     // the full set solvable; a set of three solves it exactly).
     const std::size_t m = k.count;
-    const Row& c0 = rows_[first];
-    const double* n = c0.n;
-    double b[4] = {0, 0, 0, 0}, bias[4] = {0, 0, 0, 0};
+    const double* n = k.n;
+    double b[4] = {0, 0, 0, 0};
     {
-        const Body& A = from[c0.a];
-        const Body& B = from[c0.b];
-        const double vn = (A.v[0] - B.v[0]) * n[0] + (A.v[1] - B.v[1]) * n[1] + (A.v[2] - B.v[2]) * n[2];
-        for (std::size_t i = 0; i < m; ++i) {
-            b[i] = vn + dot(A.w, k.ua[i]) - dot(B.w, k.ub[i]);
-            bias[i] = rows_[first + i].bias;
-        }
+        const Body& A = from[k.a];
+        const Body& B = from[k.b];
+        const double vn = (A.v[0] - B.v[0]) * n[0] + (A.v[1] - B.v[1]) * n[1] + (A.v[2] - B.v[2]) * n[2] - dot(B.w, k.off);
+        const double dw[3] = {A.w[0] - B.w[0], A.w[1] - B.w[1], A.w[2] - B.w[2]};
+        for (std::size_t i = 0; i < m; ++i) b[i] = vn + dot(dw, k.ua[i]);
     }
     for (std::size_t i = 0; i < m; ++i)
-        for (std::size_t j = 0; j < m; ++j) b[i] -= k.k[4 * i + j] * rows_[first + j].jn;
+        for (std::size_t j = 0; j < m; ++j) b[i] -= k.k[4 * i + j] * k.jn[j];
     double x[4];
-    if (!solve_lcp(k, b, bias, x)) return false;
-    double total = 0, wa[3] = {0, 0, 0}, wb[3] = {0, 0, 0};
+    if (!solve_lcp(k, b, k.bias, x)) return false;
+    double total = 0, u[3] = {0, 0, 0};
     for (std::size_t j = 0; j < m; ++j) {
-        Row& c = rows_[first + j];
-        const double l = x[j] - c.jn;
-        c.jn = x[j];
+        const double l = x[j] - k.jn[j];
+        k.jn[j] = x[j];
         total += l;
-        for (int d = 0; d < 3; ++d) wa[d] += l * k.ia[j][d], wb[d] += l * k.ib[j][d];
+        for (int d = 0; d < 3; ++d) u[d] += l * k.ua[j][d];
     }
-    Body& A = bodies_[c0.a];
-    Body& B = bodies_[c0.b];
+    Body& A = bodies_[k.a];
+    Body& B = bodies_[k.b];
+    double wa[3], wb[3];
+    mul_sym(A.ii, u, wa);
+    for (int d = 0; d < 3; ++d) u[d] += total * k.off[d];
+    mul_sym(B.ii, u, wb);
     for (int d = 0; d < 3; ++d) {
         A.v[d] += A.im * total * n[d];
         B.v[d] -= B.im * total * n[d];
@@ -687,7 +703,6 @@ bool Solver::solve_block(Block& k, std::size_t first, const std::vector<Body>& f
     }
     return true;
 }
-
 
 bool Solver::solve_lcp(Block& k, const double* b, const double* bias, double* x) const {
     // From the largest set down, so that of the many impulses that hold a face (its four
@@ -729,16 +744,21 @@ bool Solver::solve_lcp(Block& k, const double* b, const double* bias, double* x)
 }
 
 void Solver::fill_block(const Body& A, const Body& B, const double* n, const double (*ra)[3], const double (*rb)[3],
-                        std::size_t m, double sa, double sb, Block& k) {
+                        std::size_t m, double sa, double sb, bool plane, Block& k) {
     double(&ua)[4][3] = k.ua;
-    double(&ub)[4][3] = k.ub;
-    double(&ia)[4][3] = k.ia;
-    double(&ib)[4][3] = k.ib;
+    double ub[4][3], ia[4][3], ib[4][3];
     for (std::size_t j = 0; j < m; ++j) {
         cross(ra[j], n, ua[j]);
         cross(rb[j], n, ub[j]);
         mul_sym(A.ii, ua[j], ia[j]);
         mul_sym(B.ii, ub[j], ib[j]);
+    }
+    for (int d = 0; d < 3; ++d) k.n[d] = n[d];
+    if (plane) {
+        k.off[0] = k.off[1] = k.off[2] = 0;
+    } else {
+        const double dp[3] = {A.p[0] - B.p[0], A.p[1] - B.p[1], A.p[2] - B.p[2]};
+        cross(dp, n, k.off);
     }
     k.count = m;
     for (std::size_t p = 0; p < 4; ++p)
@@ -783,7 +803,7 @@ bool Solver::correct_block(std::size_t first, Block& k) {
     // the end of the pass (correct_positions); split masses would divide a body's correction
     // among its contacts and leave millimetres after the passes.
     const bool jacobi = options_.scheme == ContactScheme::jacobi;
-    if (!k.set_known) fill_block(A, B, c.n, ra, rb, m, 1.0, 1.0, k);
+    if (!k.set_known) fill_block(A, B, c.n, ra, rb, m, 1.0, 1.0, c.plane >= 0, k);
     double x[4];
     if (!solve_lcp(k, zero, target, x)) return false;
     double p[3] = {0, 0, 0}, ta[3] = {0, 0, 0}, tb[3] = {0, 0, 0};

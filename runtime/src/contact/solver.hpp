@@ -90,20 +90,27 @@ struct Row {
 /// (and μ Σ jn times the points' mean distance from the centre) — so that the order in which
 /// the points are visited leaves no net push or turn: a resting box stays put.
 struct Block {
+    // What the velocity passes read first, together (they never touch the rows of a block).
+    std::uint32_t a = 0, b = 0; // its rows' scratch bodies
     std::size_t count = 0;
-    double k[16];         // K, 4 × 4 row-major, the first count × count used
-    double ra[3], rb[3];  // lever arms of the centre (the mean of the points)
-    double t1[3], t2[3];  // the tangents of its rows
-    double mt1, mt2, mtw; // effective masses along t1, t2 at the centre and of the twist
-    double reach;         // mean distance of the points from the centre, m
+    std::size_t first = 0;      // its first row
+    double n[3];                // its rows' normal
+    double jn[4], bias[4];      // solve_contacts: the points' normal impulses and minimum velocities
+    // Point j's u_j = r_a,j × n; r_b,j × n = u_j + off with off = (p_a − p_b) × n (the lever
+    // arms differ by p_a − p_b; 0 against a plane, whose static body never turns). A point's
+    // normal velocity is n·(v_a − v_b) + (ω_a − ω_b)·u_j − ω_b·off, and the impulses λ_j n
+    // turn a by I_a⁻¹ Σ λ_j u_j and b by −I_b⁻¹ (Σ λ_j u_j + Σ λ_j off), once per body.
+    double ua[4][3];
+    double off[3];
+    double k[16];               // K, 4 × 4 row-major, the first count × count used
+    double inv[16];             // fill_block: K's pseudo-inverse (all the points pressing)
+    double ra[3], rb[3];        // lever arms of the centre (the mean of the points)
+    double t1[3], t2[3];        // the tangents of its rows
+    double mt1, mt2, mtw;       // effective masses along t1, t2 at the centre and of the twist
+    double reach;               // mean distance of the points from the centre, m
     double mu;
-    double jt1, jt2, jtw; // accumulated friction impulses and twist (N·s, N·m·s)
-    // Point j's r_a × n and r_b × n, and I_a⁻¹ (r_a × n), I_b⁻¹ (r_b × n): a point's normal
-    // velocity is n·(v_a − v_b) + ω_a·(r_a × n) − ω_b·(r_b × n), and the points' impulses
-    // λ_j n turn the bodies by Σ λ_j I⁻¹ (r × n), once per body.
-    double ua[4][3], ub[4][3], ia[4][3], ib[4][3];
-    bool set_known = false; // fill_block: inv holds K's pseudo-inverse (all the points pressing)
-    double inv[16];
+    double jt1, jt2, jtw;       // accumulated friction impulses and twist (N·s, N·m·s)
+    bool set_known = false;     // fill_block has filled k and inv
     // The last smaller set that solved the block and its (K_SS + 1e-9 diag)⁻¹: the iterations
     // of a step mostly find the same points pressing, tried right after the full set.
     unsigned last_set = 0;
@@ -262,6 +269,7 @@ public:
         margins_.reserve(n);
         contacts_.reserve(contacts);
         rows_.reserve(contacts);
+        schedule_.reserve(contacts);
         delta_.reserve(3 * (n + 1));
         split_.reserve(n + 1);
         local_.reserve(layout_->components.size());
@@ -274,6 +282,7 @@ public:
             rows_.reserve(5 * contacts);
             turn_.reserve(3 * (n + 1));
             blocks_.reserve(contacts);
+            schedule_.reserve(5 * contacts);
             pos_blocks_.reserve(contacts);
         }
     }
@@ -313,19 +322,20 @@ private:
     void solve_contacts();
     void setup_blocks();
     /// The friction of a block at its centre (l1, l2 along t1, t2) and its twist ltw about n.
-    void apply_central(const Block& k, const Row& c, double l1, double l2, double ltw, std::vector<Body>& B) const;
-    /// The normal impulses of the block from rows_[first]; false (nothing applied) when one
-    /// of them would pull.
-    bool solve_block(Block& k, std::size_t first, const std::vector<Body>& from);
+    static void apply_central(const Block& k, double l1, double l2, double ltw, std::vector<Body>& B);
+    /// The normal impulses of the block (k.jn, read against k.bias) with the velocities of
+    /// `from`, applied to bodies_; false (nothing applied) when no set of pressing points solves it.
+    bool solve_block(Block& k, const std::vector<Body>& from);
     /// The impulses x when exactly the points of `set` press (b, bias: solve_block), with
     /// `inv` the inverse of K_SS (row-major, stride 4); false when one of them would pull or a
     /// point left out would sink.
     static bool try_set(const Block& k, unsigned set, const double* inv, const double* b, const double* bias, double* x);
     /// x ≥ 0 with w = b + K x ≥ bias, complementary, from the largest set of pressing points down.
     bool solve_lcp(Block& k, const double* b, const double* bias, double* x) const;
-    /// K of m points with lever arms ra, rb and normal n between A and B (split masses sa, sb).
+    /// K of m points with lever arms ra, rb and normal n between A and B (split masses sa, sb),
+    /// its pseudo-inverse, and u_j, off, n; `plane`: b is a plane's static body.
     static void fill_block(const Body& A, const Body& B, const double* n, const double (*ra)[3], const double (*rb)[3],
-                           std::size_t m, double sa, double sb, Block& k);
+                           std::size_t m, double sa, double sb, bool plane, Block& k);
     /// Gauss–Seidel position correction of the manifold from rows_[first] (k: its K, filled
     /// when !k.set_known); false if no point is deeper than the slop.
     bool correct_block(std::size_t first, Block& k);
@@ -370,6 +380,9 @@ private:
     std::vector<Row> point_rows_;       // detect_shapes: the manifolds' rows
     std::vector<double> turn_;          // Jacobi position correction: 3 rotation components per body
     std::vector<Block> blocks_;
+    // setup_blocks: the velocity passes' order — a row that is no manifold's (its index), or a
+    // block (−1 − its index) — so that a pass reads a block without its rows.
+    std::vector<std::int64_t> schedule_;
     std::vector<Block> pos_blocks_; // correct_positions: K of each manifold, once a step
     std::size_t n_rigid_ = 0; // ids_: the rigid bodies, then the models' spheres
 

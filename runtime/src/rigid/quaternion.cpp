@@ -32,23 +32,6 @@ Quaternion Quaternion::from_matrix(const Eigen::Matrix3d& r) {
     return q.normalized();
 }
 
-Eigen::Matrix3d Quaternion::to_matrix() const noexcept {
-    const double ww = w * w, xx = x * x, yy = y * y, zz = z * z;
-    const double wx = w * x, wy = w * y, wz = w * z, xy = x * y, xz = x * z, yz = y * z;
-    Eigen::Matrix3d r;
-    r << ww + xx - yy - zz, 2 * (xy - wz), 2 * (xz + wy), //
-        2 * (xy + wz), ww - xx + yy - zz, 2 * (yz - wx),   //
-        2 * (xz - wy), 2 * (yz + wx), ww - xx - yy + zz;
-    return r;
-}
-
-Eigen::Vector3d Quaternion::rotate(const Eigen::Vector3d& v) const noexcept {
-    // v' = v + 2 w (u × v) + 2 u × (u × v), u = (x, y, z): 15 multiplications, no matrix.
-    const Eigen::Vector3d u(x, y, z);
-    const Eigen::Vector3d t = 2 * u.cross(v);
-    return v + w * t + u.cross(t);
-}
-
 Quaternion integrate_first_order(const Quaternion& q, const Eigen::Vector3d& om, double dt) noexcept {
     // Q ⊗ (0, ω): its components mw, mx, my, mz.
     const double mw = -q.x * om.x() - q.y * om.y() - q.z * om.z();

@@ -34,9 +34,22 @@ struct Quaternion {
     ///   R = [[w²+x²−y²−z², 2(xy−wz), 2(xz+wy)],
     ///        [2(xy+wz), w²−x²+y²−z², 2(yz−wx)],
     ///        [2(xz−wy), 2(yz+wx), w²−x²−y²+z²]].
-    [[nodiscard]] Eigen::Matrix3d to_matrix() const noexcept;
-    /// R(Q) v.
-    [[nodiscard]] Eigen::Vector3d rotate(const Eigen::Vector3d& v) const noexcept;
+    [[nodiscard]] Eigen::Matrix3d to_matrix() const noexcept {
+        const double ww = w * w, xx = x * x, yy = y * y, zz = z * z;
+        const double wx = w * x, wy = w * y, wz = w * z, xy = x * y, xz = x * z, yz = y * z;
+        Eigen::Matrix3d r;
+        r << ww + xx - yy - zz, 2 * (xy - wz), 2 * (xz + wy), //
+            2 * (xy + wz), ww - xx + yy - zz, 2 * (yz - wx),   //
+            2 * (xz - wy), 2 * (yz + wx), ww - xx - yy + zz;
+        return r;
+    }
+    /// R(Q) v = v + 2w (u × v) + 2 u × (u × v), u = (x, y, z): 15 multiplications, no matrix
+    /// (inline: the contact solver rotates every anchor of every pass).
+    [[nodiscard]] Eigen::Vector3d rotate(const Eigen::Vector3d& v) const noexcept {
+        const Eigen::Vector3d u(x, y, z);
+        const Eigen::Vector3d t = 2 * u.cross(v);
+        return v + w * t + u.cross(t);
+    }
     /// R(Q)ᵀ v (world → body).
     [[nodiscard]] Eigen::Vector3d rotate_inverse(const Eigen::Vector3d& v) const noexcept {
         return conjugate().rotate(v);
