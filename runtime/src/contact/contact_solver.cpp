@@ -704,36 +704,71 @@ bool Solver::solve_block(Block& k, const std::vector<Body>& from) {
     return true;
 }
 
-bool Solver::solve_lcp(Block& k, const double* b, const double* bias, double* x) const {
-    // From the largest set down, so that of the many impulses that hold a face (its four
-    // points' K has rank 3) the same, symmetric ones are chosen: the full set first (its
-    // pseudo-inverse kept by fill_block), then the set that solved the block last (its inverse
-    // kept: the iterations of a step mostly find the same points pressing), then every other
-    // set, largest first.
-    const std::size_t m = k.count;
-    const unsigned full = (1u << m) - 1;
-    const SetOrder& order = kSetOrders[m];
+namespace {
+
+/// The impulses x when exactly the points of `set` press (b, bias: solve_block), with `inv`
+/// the inverse of K_SS (row-major, stride 4); false when one of them would pull or a point
+/// left out would sink. M: the block's point count (its loops unrolled).
+template <int M>
+bool try_set(const Block& k, unsigned set, const double* inv, const double* b, const double* bias, double* x) {
+    int idx[4];
+    int n = 0;
+    for (int i = 0; i < M; ++i)
+        if (set & (1u << i)) idx[n++] = i;
+    for (int p = 0; p < n; ++p) {
+        double s = 0;
+        for (int q = 0; q < n; ++q) s += inv[4 * p + q] * (bias[idx[q]] - b[idx[q]]);
+        if (!(s >= 0)) return false;
+        x[idx[p]] = s;
+    }
+    // The points left out must not sink (w_i ≥ bias_i).
+    for (int i = 0; i < M; ++i) {
+        if (set & (1u << i)) continue;
+        double w = b[i];
+        for (int j = 0; j < M; ++j) w += k.k[4 * i + j] * x[j];
+        if (w < bias[i] - 1e-12 * (1 + std::abs(bias[i]))) return false;
+    }
+    return true;
+}
+
+/// try_set for the set of all M points (none left out).
+template <int M>
+bool try_full(const double* inv, const double* b, const double* bias, double* x) {
+    double r[M];
+    for (int q = 0; q < M; ++q) r[q] = bias[q] - b[q];
+    for (int p = 0; p < M; ++p) {
+        double s = 0;
+        for (int q = 0; q < M; ++q) s += inv[4 * p + q] * r[q];
+        if (!(s >= 0)) return false;
+        x[p] = s;
+    }
+    return true;
+}
+
+template <int M>
+bool solve_lcp_of(Block& k, const double* b, const double* bias, double* x) {
+    const SetOrder& order = kSetOrders[M];
     auto clear = [x] { std::fill_n(x, 4, 0.0); };
     clear();
-    if (try_set(k, full, k.inv, b, bias, x)) return true;
+    if (try_full<M>(k.inv, b, bias, x)) return true;
     if (k.last_known) {
         clear();
-        if (try_set(k, k.last_set, k.last_inv, b, bias, x)) return true;
+        if (try_set<M>(k, k.last_set, k.last_inv, b, bias, x)) return true;
     }
     for (int i = 1; i < order.count; ++i) {
         const unsigned set = order.sets[i];
         if (k.last_known && set == k.last_set) continue;
         double local[16];
         int idx[4], n = 0;
-        for (std::size_t j = 0; j < m; ++j)
-            if (set & (1u << j)) idx[n++] = static_cast<int>(j);
+        for (int j = 0; j < M; ++j)
+            if (set & (1u << j)) idx[n++] = j;
         for (int p = 0; p < n; ++p) { // (K_SS + 1e-9 diag)⁻¹
             for (int q = 0; q < n; ++q) local[4 * p + q] = k.k[4 * idx[p] + idx[q]];
             local[4 * p + p] *= 1 + 1e-9;
         }
         if (n > 0) invert_spd(local, n);
         clear();
-        if (try_set(k, set, local, b, bias, x)) {
+        if (try_set<M>(k, set, local, b, bias, x)) {
             k.last_set = set;
             k.last_known = true;
             std::copy_n(local, 16, k.last_inv);
@@ -741,6 +776,23 @@ bool Solver::solve_lcp(Block& k, const double* b, const double* bias, double* x)
         }
     }
     return false;
+}
+
+} // namespace
+
+bool Solver::solve_lcp(Block& k, const double* b, const double* bias, double* x) const {
+    // From the largest set down, so that of the many impulses that hold a face (its four
+    // points' K has rank 3) the same, symmetric ones are chosen: the full set first (its
+    // pseudo-inverse kept by fill_block), then the set that solved the block last (its inverse
+    // kept: the iterations of a step mostly find the same points pressing), then every other
+    // set, largest first.
+    switch (k.count) {
+    case 1: return solve_lcp_of<1>(k, b, bias, x);
+    case 2: return solve_lcp_of<2>(k, b, bias, x);
+    case 3: return solve_lcp_of<3>(k, b, bias, x);
+    case 4: return solve_lcp_of<4>(k, b, bias, x);
+    default: return false; // blocks hold 1 to 4 points (Manifold)
+    }
 }
 
 void Solver::fill_block(const Body& A, const Body& B, const double* n, const double (*ra)[3], const double (*rb)[3],
@@ -837,28 +889,6 @@ bool Solver::correct_block(std::size_t first, Block& k) {
     }
     rotate_by(A.q, wa);
     if (c.plane < 0) rotate_by(B.q, wb);
-    return true;
-}
-
-bool Solver::try_set(const Block& k, unsigned set, const double* inv, const double* b, const double* bias, double* x) {
-    const std::size_t m = k.count;
-    int idx[4];
-    int n = 0;
-    for (std::size_t i = 0; i < m; ++i)
-        if (set & (1u << i)) idx[n++] = static_cast<int>(i);
-    for (int p = 0; p < n; ++p) {
-        double s = 0;
-        for (int q = 0; q < n; ++q) s += inv[4 * p + q] * (bias[idx[q]] - b[idx[q]]);
-        if (!(s >= 0)) return false;
-        x[idx[p]] = s;
-    }
-    // The points left out must not sink (w_i ≥ bias_i).
-    for (std::size_t i = 0; i < m; ++i) {
-        if (set & (1u << i)) continue;
-        double w = b[i];
-        for (std::size_t j = 0; j < m; ++j) w += k.k[4 * i + j] * x[j];
-        if (w < bias[i] - 1e-12 * (1 + std::abs(bias[i]))) return false;
-    }
     return true;
 }
 

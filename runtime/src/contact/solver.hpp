@@ -206,6 +206,8 @@ inline void rotate_by(double* q, const double* th) {
 
 /// Coulomb's disk: scales (x, y) back onto the circle of radius lim if it lies outside.
 inline void clamp_disk(double& x, double& y, double lim) {
+    // |(x, y)|² against lim² first: the square root only for the friction that slides.
+    if (!(x * x + y * y > lim * lim)) return;
     const double mag = std::sqrt(x * x + y * y);
     if (mag > lim) {
         const double s = mag > 0 ? lim / mag : 0;
@@ -326,10 +328,6 @@ private:
     /// The normal impulses of the block (k.jn, read against k.bias) with the velocities of
     /// `from`, applied to bodies_; false (nothing applied) when no set of pressing points solves it.
     bool solve_block(Block& k, const std::vector<Body>& from);
-    /// The impulses x when exactly the points of `set` press (b, bias: solve_block), with
-    /// `inv` the inverse of K_SS (row-major, stride 4); false when one of them would pull or a
-    /// point left out would sink.
-    static bool try_set(const Block& k, unsigned set, const double* inv, const double* b, const double* bias, double* x);
     /// x ≥ 0 with w = b + K x ≥ bias, complementary, from the largest set of pressing points down.
     bool solve_lcp(Block& k, const double* b, const double* bias, double* x) const;
     /// K of m points with lever arms ra, rb and normal n between A and B (split masses sa, sb),
