@@ -1,5 +1,5 @@
 // Scenes: rigid bodies and generated models in one world (scene.hpp). The contact side of the
-// coupling (effective masses and impulses through the sphere Jacobians) is in contact_solver.cpp.
+// coupling (effective masses and impulses through the sphere Jacobians) is in model_coupling.cpp.
 #include "phynjo/runtime/contact/scene.hpp"
 
 #include "solver.hpp"

@@ -2,8 +2,8 @@
 // The contact solver (internal to runtime/src/contact): its scratch bodies and rows and the
 // Solver — detection.cpp finds the contacts, model_coupling.cpp couples the model spheres of
 // scenes, contact_solver.cpp solves (narrow phase → position correction → collisions →
-// contact impulses).
-// The maths is in contact.hpp; here the sphere geometry is used to shorten it: every lever
+// contact impulses), block_solver.cpp solves a manifold's points together.
+// The maths is in contact_solver.hpp; here the sphere geometry is used to shorten it: every lever
 // arm is along the normal (r_a = −r_a n, r_b = +r_b n), so with the right-handed frame
 // (n, t1, t2 = n × t1):
 //   r_a × n = 0,  r_a × t1 = −r_a t2,  r_a × t2 = r_a t1,  r_b × t1 = r_b t2,  r_b × t2 = −r_b t1,

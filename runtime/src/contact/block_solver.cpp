@@ -1,0 +1,315 @@
+// A manifold's points solved together (solver.hpp, Block): the blocks of a step, their exact
+// linear complementarity problems (normal impulses, position corrections, restitution) and K's
+// inverses (block_inverse.hpp).
+#include "block_inverse.hpp"
+#include "solver.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+
+namespace phynjo::runtime::contact_detail {
+
+void Solver::setup_blocks() {
+    // Each manifold (1 to 4 points; a single point too, so that the velocity passes treat
+    // every manifold alike): K_ij = (1/m_a + 1/m_b) + (r_ai × n)·I_a⁻¹(r_aj × n) +
+    // (r_bi × n)·I_b⁻¹(r_bj × n) (Jacobi: the split masses).
+    blocks_.clear();
+    schedule_.clear();
+    const bool jacobi = options_.scheme == ContactScheme::jacobi;
+    for (std::size_t i = 0; i < rows_.size();) {
+        Row& c = rows_[i];
+        c.block = -1;
+        if (!c.point) {
+            schedule_.push_back(static_cast<std::int64_t>(i));
+            ++i;
+            continue;
+        }
+        const std::size_t m = c.block_size;
+        double ra[4][3], rb[4][3];
+        for (std::size_t j = 0; j < m; ++j)
+            for (int d = 0; d < 3; ++d) ra[j][d] = rows_[i + j].xa[d], rb[j][d] = rows_[i + j].xb[d];
+        Block b;
+        const Body& A = bodies_[c.a];
+        const Body& B = bodies_[c.b];
+        const double sa = jacobi ? split_[c.a] : 1.0, sb = jacobi ? split_[c.b] : 1.0;
+        fill_block(A, B, c.n, ra, rb, m, sa, sb, c.plane >= 0, b);
+        b.a = c.a;
+        b.b = c.b;
+        b.first = i;
+        for (int d = 0; d < 3; ++d) {
+            b.ra[d] = b.rb[d] = 0;
+            for (std::size_t j = 0; j < m; ++j) b.ra[d] += ra[j][d] / static_cast<double>(m), b.rb[d] += rb[j][d] / static_cast<double>(m);
+            b.t1[d] = c.t1[d], b.t2[d] = c.t2[d];
+        }
+        b.reach = 0;
+        for (std::size_t j = 0; j < m; ++j) {
+            double e[3];
+            for (int d = 0; d < 3; ++d) e[d] = ra[j][d] - b.ra[d];
+            const double en = dot(e, c.n);
+            b.reach += std::sqrt(std::max(dot(e, e) - en * en, 0.0)) / static_cast<double>(m);
+        }
+        b.mt1 = 1 / point_inverse_mass(A, B, b.ra, b.rb, b.t1, sa, sb);
+        b.mt2 = 1 / point_inverse_mass(A, B, b.ra, b.rb, b.t2, sa, sb);
+        b.mtw = 1 / (sa * quad(A.ii, c.n) + sb * quad(B.ii, c.n));
+        b.mu = c.mu;
+        b.jt1 = b.jt2 = b.jtw = 0;
+        for (std::size_t j = 0; j < m; ++j) {
+            rows_[i + j].block = static_cast<int>(blocks_.size());
+            rows_[i + j].jt1 = rows_[i + j].jt2 = 0;
+        }
+        schedule_.push_back(-1 - static_cast<std::int64_t>(blocks_.size()));
+        blocks_.push_back(b);
+        i += m;
+    }
+}
+
+namespace {
+
+/// The sets of pressing points of a manifold of m points (bit i: point i), largest first.
+struct SetOrder {
+    unsigned sets[16];
+    int count = 0;
+    explicit SetOrder(unsigned m) {
+        const unsigned all = (1u << m) - 1;
+        for (int size = static_cast<int>(m); size >= 0; --size)
+            for (unsigned set = all + 1; set-- > 0;)
+                if (std::popcount(set) == size) sets[count++] = set;
+    }
+};
+const SetOrder kSetOrders[5] = {SetOrder(0), SetOrder(1), SetOrder(2), SetOrder(3), SetOrder(4)};
+
+} // namespace
+
+bool Solver::solve_block(Block& k, const std::vector<Body>& from) {
+    // The manifold's linear complementarity problem, solved exactly: with a the accumulated
+    // impulses, v the normal velocities and b = v − K a (the velocities without them), find
+    // x ≥ 0 with w = b + K x ≥ bias and x_i (w_i − bias_i) = 0, by trying the sets of
+    // pressing points from all of them down to none (Box2D's block solver for two points,
+    // for up to four). K of a face's four points has rank 3 (+1e-9 of its diagonal keeps
+    // the full set solvable; a set of three solves it exactly).
+    const std::size_t m = k.count;
+    const double* n = k.n;
+    double b[4] = {0, 0, 0, 0};
+    {
+        const Body& A = from[k.a];
+        const Body& B = from[k.b];
+        const double vn = (A.v[0] - B.v[0]) * n[0] + (A.v[1] - B.v[1]) * n[1] + (A.v[2] - B.v[2]) * n[2] - dot(B.w, k.off);
+        const double dw[3] = {A.w[0] - B.w[0], A.w[1] - B.w[1], A.w[2] - B.w[2]};
+        for (std::size_t i = 0; i < m; ++i) b[i] = vn + dot(dw, k.ua[i]);
+    }
+    for (std::size_t i = 0; i < m; ++i)
+        for (std::size_t j = 0; j < m; ++j) b[i] -= k.k[4 * i + j] * k.jn[j];
+    double x[4];
+    if (!solve_lcp(k, b, k.bias, x)) return false;
+    double total = 0, u[3] = {0, 0, 0};
+    for (std::size_t j = 0; j < m; ++j) {
+        const double l = x[j] - k.jn[j];
+        k.jn[j] = x[j];
+        total += l;
+        for (int d = 0; d < 3; ++d) u[d] += l * k.ua[j][d];
+    }
+    Body& A = bodies_[k.a];
+    Body& B = bodies_[k.b];
+    double wa[3], wb[3];
+    mul_sym(A.ii, u, wa);
+    for (int d = 0; d < 3; ++d) u[d] += total * k.off[d];
+    mul_sym(B.ii, u, wb);
+    for (int d = 0; d < 3; ++d) {
+        A.v[d] += A.im * total * n[d];
+        B.v[d] -= B.im * total * n[d];
+        A.w[d] += wa[d];
+        B.w[d] -= wb[d];
+    }
+    return true;
+}
+
+namespace {
+
+/// The impulses x when exactly the points of `set` press (b, bias: solve_block), with `inv`
+/// the inverse of K_SS (row-major, stride 4); false when one of them would pull or a point
+/// left out would sink. M: the block's point count (its loops unrolled).
+template <int M>
+bool try_set(const Block& k, unsigned set, const double* inv, const double* b, const double* bias, double* x) {
+    int idx[4];
+    int n = 0;
+    for (int i = 0; i < M; ++i)
+        if (set & (1u << i)) idx[n++] = i;
+    for (int p = 0; p < n; ++p) {
+        double s = 0;
+        for (int q = 0; q < n; ++q) s += inv[4 * p + q] * (bias[idx[q]] - b[idx[q]]);
+        if (!(s >= 0)) return false;
+        x[idx[p]] = s;
+    }
+    // The points left out must not sink (w_i ≥ bias_i).
+    for (int i = 0; i < M; ++i) {
+        if (set & (1u << i)) continue;
+        double w = b[i];
+        for (int j = 0; j < M; ++j) w += k.k[4 * i + j] * x[j];
+        if (w < bias[i] - 1e-12 * (1 + std::abs(bias[i]))) return false;
+    }
+    return true;
+}
+
+/// try_set for the set of all M points (none left out).
+template <int M>
+bool try_full(const double* inv, const double* b, const double* bias, double* x) {
+    double r[M];
+    for (int q = 0; q < M; ++q) r[q] = bias[q] - b[q];
+    for (int p = 0; p < M; ++p) {
+        double s = 0;
+        for (int q = 0; q < M; ++q) s += inv[4 * p + q] * r[q];
+        if (!(s >= 0)) return false;
+        x[p] = s;
+    }
+    return true;
+}
+
+template <int M>
+bool solve_lcp_of(Block& k, const double* b, const double* bias, double* x) {
+    const SetOrder& order = kSetOrders[M];
+    auto clear = [x] { std::fill_n(x, 4, 0.0); };
+    clear();
+    if (try_full<M>(k.inv, b, bias, x)) return true;
+    if (k.last_known) {
+        clear();
+        if (try_set<M>(k, k.last_set, k.last_inv, b, bias, x)) return true;
+    }
+    for (int i = 1; i < order.count; ++i) {
+        const unsigned set = order.sets[i];
+        if (k.last_known && set == k.last_set) continue;
+        double local[16];
+        int idx[4], n = 0;
+        for (int j = 0; j < M; ++j)
+            if (set & (1u << j)) idx[n++] = j;
+        for (int p = 0; p < n; ++p) { // (K_SS + 1e-9 diag)⁻¹
+            for (int q = 0; q < n; ++q) local[4 * p + q] = k.k[4 * idx[p] + idx[q]];
+            local[4 * p + p] *= 1 + 1e-9;
+        }
+        if (n > 0) invert_spd(local, n);
+        clear();
+        if (try_set<M>(k, set, local, b, bias, x)) {
+            k.last_set = set;
+            k.last_known = true;
+            std::copy_n(local, 16, k.last_inv);
+            return true;
+        }
+    }
+    return false;
+}
+
+} // namespace
+
+bool Solver::solve_lcp(Block& k, const double* b, const double* bias, double* x) const {
+    // From the largest set down, so that of the many impulses that hold a face (its four
+    // points' K has rank 3) the same, symmetric ones are chosen: the full set first (its
+    // pseudo-inverse kept by fill_block), then the set that solved the block last (its inverse
+    // kept: the iterations of a step mostly find the same points pressing), then every other
+    // set, largest first.
+    switch (k.count) {
+    case 1: return solve_lcp_of<1>(k, b, bias, x);
+    case 2: return solve_lcp_of<2>(k, b, bias, x);
+    case 3: return solve_lcp_of<3>(k, b, bias, x);
+    case 4: return solve_lcp_of<4>(k, b, bias, x);
+    default: return false; // blocks hold 1 to 4 points (Manifold)
+    }
+}
+
+void Solver::fill_block(const Body& A, const Body& B, const double* n, const double (*ra)[3], const double (*rb)[3],
+                        std::size_t m, double sa, double sb, bool plane, Block& k) {
+    double(&ua)[4][3] = k.ua;
+    double ub[4][3], ia[4][3], ib[4][3];
+    for (std::size_t j = 0; j < m; ++j) {
+        cross(ra[j], n, ua[j]);
+        cross(rb[j], n, ub[j]);
+        mul_sym(A.ii, ua[j], ia[j]);
+        mul_sym(B.ii, ub[j], ib[j]);
+    }
+    for (int d = 0; d < 3; ++d) k.n[d] = n[d];
+    if (plane) {
+        k.off[0] = k.off[1] = k.off[2] = 0;
+    } else {
+        const double dp[3] = {A.p[0] - B.p[0], A.p[1] - B.p[1], A.p[2] - B.p[2]};
+        cross(dp, n, k.off);
+    }
+    k.count = m;
+    for (std::size_t p = 0; p < 4; ++p)
+        for (std::size_t q = 0; q < 4; ++q)
+            k.k[4 * p + q] = p < m && q < m ? sa * (A.im + dot(ua[p], ia[q])) + sb * (B.im + dot(ub[p], ib[q])) : 0.0;
+    // The full set's pseudo-inverse (the least impulses that do it): four points of a face
+    // give a K of rank 3, whose regularised inverse would amplify round-off unevenly; its
+    // closed form (block_inverse.hpp), the eigen-decomposition for degenerate manifolds.
+    double t1[3], t2[3];
+    tangent_basis(n, t1, t2);
+    if (!closed_form_pinv(k.k, static_cast<int>(m), t1, t2, ua, k.inv)) eigen_pinv(k.k, static_cast<int>(m), k.inv);
+    k.set_known = true;
+    k.last_set = 0;
+    k.last_known = false;
+}
+
+bool Solver::correct_block(std::size_t first, Block& k) {
+    // The points' corrections together, as the velocities are solved: λ ≥ 0 with
+    // (K λ)_i ≥ β (depth_i − slop) and complementarity, then every body moved and turned once.
+    const Row& c = rows_[first];
+    const std::size_t m = c.block_size;
+    Body& A = bodies_[c.a];
+    Body& B = bodies_[c.b];
+    double ra[4][3], rb[4][3], target[4], zero[4] = {0, 0, 0, 0};
+    bool deep = false;
+    for (std::size_t j = 0; j < m; ++j) {
+        double xa[3], xb[3];
+        anchors(rows_[first + j], xa, xb);
+        const double sep = (xa[0] - xb[0]) * c.n[0] + (xa[1] - xb[1]) * c.n[1] + (xa[2] - xb[2]) * c.n[2];
+        target[j] = options_.baumgarte * (-sep - options_.slop);
+        deep = deep || target[j] > 0;
+        for (int d = 0; d < 3; ++d) {
+            const double mid = 0.5 * (xa[d] + xb[d]);
+            ra[j][d] = mid - A.p[d];
+            rb[j][d] = c.plane >= 0 ? 0.0 : mid - B.p[d];
+        }
+    }
+    if (!deep) return false;
+    // K at the lever arms of the first pass that needs it: the passes move the bodies by the
+    // depth only, and K's pseudo-inverse is the cost of a pass.
+    // Jacobi: each manifold corrected as if alone, as a point row is, and the bodies moved at
+    // the end of the pass (correct_positions); split masses would divide a body's correction
+    // among its contacts and leave millimetres after the passes.
+    const bool jacobi = options_.scheme == ContactScheme::jacobi;
+    if (!k.set_known) fill_block(A, B, c.n, ra, rb, m, 1.0, 1.0, c.plane >= 0, k);
+    double x[4];
+    if (!solve_lcp(k, zero, target, x)) return false;
+    double p[3] = {0, 0, 0}, ta[3] = {0, 0, 0}, tb[3] = {0, 0, 0};
+    for (std::size_t j = 0; j < m; ++j) {
+        const double l[3] = {x[j] * c.n[0], x[j] * c.n[1], x[j] * c.n[2]};
+        double u[3];
+        for (int d = 0; d < 3; ++d) p[d] += l[d];
+        cross(ra[j], l, u);
+        for (int d = 0; d < 3; ++d) ta[d] += u[d];
+        cross(rb[j], l, u);
+        for (int d = 0; d < 3; ++d) tb[d] += u[d];
+    }
+    double wa[3], wb[3];
+    mul_sym(A.ii, ta, wa);
+    mul_sym(B.ii, tb, wb);
+    if (jacobi) {
+        for (int d = 0; d < 3; ++d) {
+            delta_[3 * c.a + d] += A.im * p[d];
+            turn_[3 * c.a + d] += wa[d];
+            if (c.plane < 0) {
+                delta_[3 * c.b + d] -= B.im * p[d];
+                turn_[3 * c.b + d] -= wb[d];
+            }
+        }
+        return true;
+    }
+    for (int d = 0; d < 3; ++d) {
+        A.p[d] += A.im * p[d];
+        B.p[d] -= B.im * p[d];
+        wb[d] = -wb[d];
+    }
+    rotate_by(A.q, wa);
+    if (c.plane < 0) rotate_by(B.q, wb);
+    return true;
+}
+
+} // namespace phynjo::runtime::contact_detail
