@@ -11,8 +11,7 @@
 namespace phynjo::runtime::contact_detail {
 
 void Solver::setup_blocks() {
-    // Each manifold (1 to 4 points; a single point too, so that the velocity passes treat
-    // every manifold alike): K_ij = (1/m_a + 1/m_b) + (r_ai × n)·I_a⁻¹(r_aj × n) +
+    // Each manifold of 2 to 4 points: K_ij = (1/m_a + 1/m_b) + (r_ai × n)·I_a⁻¹(r_aj × n) +
     // (r_bi × n)·I_b⁻¹(r_bj × n) (Jacobi: the split masses).
     blocks_.clear();
     schedule_.clear();
@@ -20,7 +19,7 @@ void Solver::setup_blocks() {
     for (std::size_t i = 0; i < rows_.size();) {
         Row& c = rows_[i];
         c.block = -1;
-        if (!c.point) {
+        if (!c.point || c.block_size < 2) {
             schedule_.push_back(static_cast<std::int64_t>(i));
             ++i;
             continue;

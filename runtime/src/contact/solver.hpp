@@ -82,10 +82,10 @@ struct Row {
     double la[3], lb[3];         // surface points in a's and b's body frames (b's: world for a plane)
     double xa[3], xb[3];         // lever arms r_a, r_b at the velocity solve
     std::uint8_t block_size = 1; // on a manifold's first row: its point count (0 on the others)
-    int block = -1;              // setup_blocks: the Block of its manifold (all its rows)
+    int block = -1;              // setup_blocks: the Block of a manifold of 2+ points (all its rows)
 };
 
-/// A manifold of 1 to 4 points (setup_blocks): their normal impulses solved together, and
+/// A manifold of 2 to 4 points (setup_blocks): their normal impulses solved together, and
 /// its friction at its centre — two tangents and a twist about the normal, limited by μ Σ jn
 /// (and μ Σ jn times the points' mean distance from the centre) — so that the order in which
 /// the points are visited leaves no net push or turn: a resting box stays put.
