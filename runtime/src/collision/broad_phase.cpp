@@ -217,10 +217,13 @@ void UniformGrid::find_pairs(std::span<const AABB> boxes, std::vector<CandidateP
                         s = find(pack(x, y, z));
                         if (table_keys_[s] == kEmpty) continue;
                     }
+                    // A cell lists its boxes in index order: from the last down to the first
+                    // beyond i (each pair once, as (i, j > i)).
                     const std::uint32_t b = table_begin_[s], e = b + table_count_[s];
-                    for (std::uint32_t k = b; k < e; ++k) {
+                    for (std::uint32_t k = e; k-- > b;) {
                         const Index j = sorted_[k];
-                        if (j > i && intersects(boxes[i], boxes[j])) scratch_.push_back(j);
+                        if (j <= i) break;
+                        if (intersects(boxes[i], boxes[j])) scratch_.push_back(j);
                     }
                 }
         std::sort(scratch_.begin(), scratch_.end());
