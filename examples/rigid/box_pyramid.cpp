@@ -39,27 +39,18 @@ int main(int argc, char** argv) {
     page.add_planes(planes);
     std::ofstream hist(dir / "box_pyramid_history.csv");
     hist << "t,largest_move_mm,largest_turn_deg,deepest_overlap_mm\n";
-    const int steps = static_cast<int>(std::lround(t_end / dt));
     double far = 0, turn = 0;
-    for (int s = 0; s <= steps; ++s) {
-        page.capture(w);
-        if (s % 24 == 0) {
-            far = 0, turn = 0;
-            for (Index i = 0; i < w.size(); ++i) {
-                far = std::max(far, (position(w, i) - init[i].position).norm());
-                turn = std::max(turn, 2 * std::acos(std::min(1.0, std::abs(orientation(w, i).w))));
-            }
-            hist << s * dt << ',' << 1e3 * far << ',' << turn * 180 / M_PI << ',' << 1e3 * max_penetration(w, all_bodies(w), planes)
-                 << '\n';
+    const bool ran = run_recorded(w, stepper, dt, t_end, page, [&](int s, const World& x) {
+        if (s % 24 != 0) return;
+        far = 0, turn = 0;
+        for (Index i = 0; i < x.size(); ++i) {
+            far = std::max(far, (position(x, i) - init[i].position).norm());
+            turn = std::max(turn, 2 * std::acos(std::min(1.0, std::abs(orientation(x, i).w))));
         }
-        if (s < steps) {
-            const RunReport rep = stepper.run_guarded(w, dt, 1);
-            if (!rep.completed) {
-                std::printf("stopped: %s\n", rep.reason.c_str());
-                return 1;
-            }
-        }
-    }
+        hist << s * dt << ',' << 1e3 * far << ',' << turn * 180 / M_PI << ',' << 1e3 * max_penetration(x, all_bodies(x), planes)
+             << '\n';
+    });
+    if (!ran) return 1;
     std::ofstream fin(dir / "box_pyramid_final.csv");
     fin << "x0,y0,x,y\n";
     for (Index i = 0; i < w.size(); ++i)

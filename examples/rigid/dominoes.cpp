@@ -46,27 +46,19 @@ int main(int argc, char** argv) {
     for (int i = 0; i < n; ++i) tilt_csv << ",tilt_" << i;
     tilt_csv << '\n';
     std::vector<double> fell(n, -1);
-    const int steps = static_cast<int>(std::lround(t_end / dt));
-    for (int s = 0; s <= steps; ++s) {
-        page.capture(w);
+    const bool ran = run_recorded(w, stepper, dt, t_end, page, [&](int s, const World& x) {
         const double t = s * dt;
         if (s % 4 == 0) tilt_csv << t;
-        for (Index i = 0; i < w.size(); ++i) {
+        for (Index i = 0; i < x.size(); ++i) {
             // the tilt: the angle between the domino's long axis (body y) and the vertical
-            const double up = orientation(w, i).rotate(Eigen::Vector3d::UnitY()).y();
+            const double up = orientation(x, i).rotate(Eigen::Vector3d::UnitY()).y();
             const double deg = std::acos(std::clamp(up, -1.0, 1.0)) * 180 / M_PI;
             if (s % 4 == 0) tilt_csv << ',' << deg;
             if (fell[i] < 0 && deg > 45) fell[i] = t;
         }
         if (s % 4 == 0) tilt_csv << '\n';
-        if (s < steps) {
-            const RunReport rep = stepper.run_guarded(w, dt, 1);
-            if (!rep.completed) {
-                std::printf("stopped: %s\n", rep.reason.c_str());
-                return 1;
-            }
-        }
-    }
+    });
+    if (!ran) return 1;
     std::ofstream falls(dir / "dominoes_falls.csv");
     falls << "domino,x,t_45deg\n";
     int down = 0;

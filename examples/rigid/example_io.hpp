@@ -1,5 +1,5 @@
 // Shared by the rigid-body examples: the output directory from `--output DIR` (default "."),
-// and the settling run of the piles.
+// the recorded run of every example and the settling run of the piles.
 #pragma once
 #include "phynjo/runtime/runtime.hpp"
 
@@ -19,26 +19,18 @@ inline std::filesystem::path output_dir(int argc, char** argv) {
     return dir;
 }
 
-/// Steps `w` to t_end, every state into `page` and every 4th step's t, kinetic energy (J),
-/// largest speed (m/s) and deepest overlap (mm) into the CSV `history`; false, having printed
-/// why, when the run stopped early.
-inline bool run_settling(phynjo::runtime::World& w, phynjo::runtime::Stepper& stepper, double dt, double t_end,
-                         phynjo::runtime::Recorder& page, const std::filesystem::path& history,
-                         std::span<const phynjo::runtime::Plane> planes) {
-    using namespace phynjo::runtime;
-    std::ofstream hist(history);
-    hist << "t,kinetic_energy,max_speed,max_penetration_mm\n";
+/// Steps `w` to t_end (dt a step), every state into `page` and shown to observe(s, w) (s the
+/// step index, 0 to the last) before the next step; false, having printed why, when the run
+/// stopped early.
+template <class Observe>
+bool run_recorded(phynjo::runtime::World& w, phynjo::runtime::Stepper& stepper, double dt, double t_end,
+                  phynjo::runtime::Recorder& page, Observe&& observe) {
     const int steps = static_cast<int>(std::lround(t_end / dt));
     for (int s = 0; s <= steps; ++s) {
         page.capture(w);
-        if (s % 4 == 0) {
-            double vmax = 0;
-            for (Index i = 0; i < w.size(); ++i) vmax = std::max(vmax, velocity(w, i).norm());
-            hist << s * dt << ',' << rigid_kinetic_energy(w) << ',' << vmax << ','
-                 << 1e3 * max_penetration(w, all_bodies(w), planes) << '\n';
-        }
+        observe(s, static_cast<const phynjo::runtime::World&>(w));
         if (s < steps) {
-            const RunReport rep = stepper.run_guarded(w, dt, 1);
+            const phynjo::runtime::RunReport rep = stepper.run_guarded(w, dt, 1);
             if (!rep.completed) {
                 std::printf("stopped: %s\n", rep.reason.c_str());
                 return false;
@@ -46,4 +38,21 @@ inline bool run_settling(phynjo::runtime::World& w, phynjo::runtime::Stepper& st
         }
     }
     return true;
+}
+
+/// run_recorded, every 4th step's t, kinetic energy (J), largest speed (m/s) and deepest
+/// overlap (mm) into the CSV `history`: the settling run of the piles.
+inline bool run_settling(phynjo::runtime::World& w, phynjo::runtime::Stepper& stepper, double dt, double t_end,
+                         phynjo::runtime::Recorder& page, const std::filesystem::path& history,
+                         std::span<const phynjo::runtime::Plane> planes) {
+    using namespace phynjo::runtime;
+    std::ofstream hist(history);
+    hist << "t,kinetic_energy,max_speed,max_penetration_mm\n";
+    return run_recorded(w, stepper, dt, t_end, page, [&](int s, const World& x) {
+        if (s % 4 != 0) return;
+        double vmax = 0;
+        for (Index i = 0; i < x.size(); ++i) vmax = std::max(vmax, velocity(x, i).norm());
+        hist << s * dt << ',' << rigid_kinetic_energy(x) << ',' << vmax << ',' << 1e3 * max_penetration(x, all_bodies(x), planes)
+             << '\n';
+    });
 }
