@@ -172,13 +172,13 @@ void Solver::correct_positions() {
                 }
                 cross(ra, n, ua);
                 cross(rb, n, ub);
-                const double sa = 1, sb = c.plane >= 0 ? 0 : 1;
-                const double k_inv = A.im + sb * Bb.im + quad(A.ii, ua) + sb * quad(Bb.ii, ub);
+                // (A plane's static body has no inverse mass or inertia: its terms vanish.)
+                const double k_inv = A.im + Bb.im + quad(A.ii, ua) + quad(Bb.ii, ub);
                 const double corr = beta * depth / k_inv;
                 double ta[3], tb[3];
                 mul_sym(A.ii, ua, ta);
                 mul_sym(Bb.ii, ub, tb);
-                for (int k = 0; k < 3; ++k) ta[k] *= corr * sa, tb[k] *= -corr * sb;
+                for (int k = 0; k < 3; ++k) ta[k] *= corr, tb[k] *= -corr;
                 if (jacobi) {
                     for (int k = 0; k < 3; ++k) {
                         delta_[3 * c.a + k] += corr * A.im * n[k];
