@@ -90,7 +90,7 @@ struct Row {
 /// (and μ Σ jn times the points' mean distance from the centre) — so that the order in which
 /// the points are visited leaves no net push or turn: a resting box stays put.
 struct Block {
-    // What the velocity passes read first, together (they never touch the rows of a block).
+    // What the velocity passes read, together (a block's rows only when no set of points solves it).
     std::uint32_t a = 0, b = 0; // its rows' scratch bodies
     std::size_t count = 0;
     std::size_t first = 0;      // its first row
