@@ -36,14 +36,8 @@ int main(int argc, char** argv) {
                                contact_cache_fields(32));
     const std::vector<Plane> planes{Plane::ground(), Plane{{1, 0, 0}, 0}, Plane{{-1, 0, 0}, -side}, Plane{{0, 0, 1}, 0},
                                     Plane{{0, 0, -1}, -side}};
-    ContactOptions o;
-    o.velocity_iterations = 20;
-    o.slop = 2e-5;
-    Stepper stepper(rigid_contact_step(Force3D::gravity(9.81), all_bodies(w), planes,
-                                       ContactMaterial{restitution_curve(0.2, 0.2), constant_curve(0.5)}, o, w.layout_ptr()));
-    Recorder page({.title = "343 boxes dropped into a box (e = 0.2, mu = 0.5, nothing asleep)"});
-    page.add_rigid_bodies(w, all_bodies(w));
-    page.add_planes(planes);
+    Stepper stepper = contact_stepper(w, planes, ContactMaterial{restitution_curve(0.2, 0.2), constant_curve(0.5)}, 2e-5);
+    Recorder page = rigid_page(w, planes, "343 boxes dropped into a box (e = 0.2, mu = 0.5, nothing asleep)");
     if (!run_settling(w, stepper, dt, t_end, page, dir / "box_pile_history.csv", planes)) return 1;
     std::ofstream fin(dir / "box_pile_final.csv");
     fin << "x,y,z,speed\n";

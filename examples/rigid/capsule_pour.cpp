@@ -36,13 +36,8 @@ int main(int argc, char** argv) {
                                contact_cache_fields(32));
     const std::vector<Plane> planes{Plane::ground(), Plane{{1, 0, 0}, 0}, Plane{{-1, 0, 0}, -side}, Plane{{0, 0, 1}, 0},
                                     Plane{{0, 0, -1}, -side}};
-    ContactOptions o;
-    o.velocity_iterations = 20;
-    const ContactMaterial mat{restitution_curve(0.1, 0.2), constant_curve(0.4)};
-    Stepper stepper(rigid_contact_step(Force3D::gravity(9.81), all_bodies(w), planes, mat, o, w.layout_ptr()));
-    Recorder page({.title = "300 capsules poured into a box (e = 0.1, mu = 0.4, nothing asleep)"});
-    page.add_rigid_bodies(w, all_bodies(w));
-    page.add_planes(planes);
+    Stepper stepper = contact_stepper(w, planes, ContactMaterial{restitution_curve(0.1, 0.2), constant_curve(0.4)});
+    Recorder page = rigid_page(w, planes, "300 capsules poured into a box (e = 0.1, mu = 0.4, nothing asleep)");
     if (!run_settling(w, stepper, dt, t_end, page, dir / "capsule_pour_history.csv", planes)) return 1;
     std::size_t rest = 0;
     double top = 0;

@@ -33,14 +33,8 @@ int main(int argc, char** argv) {
     init[0].velocity = omega.cross(Eigen::Vector3d(-h.x(), h.y(), 0));
     World w = make_rigid_world(reg, std::vector<RigidBody>(n, RigidBody::solid_box(0.05, h)), init, contact_cache_fields(32));
     const std::vector<Plane> planes{Plane::ground()};
-    ContactOptions o;
-    o.velocity_iterations = 20;
-    o.slop = 1e-5;
-    Stepper stepper(rigid_contact_step(Force3D::gravity(9.81), all_bodies(w), planes,
-                                       ContactMaterial{restitution_curve(0, 0.05), constant_curve(0.5)}, o, w.layout_ptr()));
-    Recorder page({.title = "30 dominoes (2 x 10 x 5 cm, 6 cm apart, mu = 0.5)"});
-    page.add_rigid_bodies(w, all_bodies(w));
-    page.add_planes(planes);
+    Stepper stepper = contact_stepper(w, planes, ContactMaterial{restitution_curve(0, 0.05), constant_curve(0.5)}, 1e-5);
+    Recorder page = rigid_page(w, planes, "30 dominoes (2 x 10 x 5 cm, 6 cm apart, mu = 0.5)");
     std::ofstream tilt_csv(dir / "dominoes.csv");
     tilt_csv << "t";
     for (int i = 0; i < n; ++i) tilt_csv << ",tilt_" << i;

@@ -10,6 +10,8 @@
 #include <fstream>
 #include <span>
 #include <string>
+#include <utility>
+#include <vector>
 
 inline std::filesystem::path output_dir(int argc, char** argv) {
     std::filesystem::path dir = ".";
@@ -17,6 +19,28 @@ inline std::filesystem::path output_dir(int argc, char** argv) {
         if (std::strcmp(argv[i], "--output") == 0) dir = argv[i + 1];
     std::filesystem::create_directories(dir);
     return dir;
+}
+
+/// The contact step of the box and capsule examples: gravity (9.81 m/s², along −y), every body
+/// against every other and the `planes`, 20 velocity iterations, `slop` (m) of depth left alone.
+inline phynjo::runtime::Stepper contact_stepper(const phynjo::runtime::World& w, const std::vector<phynjo::runtime::Plane>& planes,
+                                                const phynjo::runtime::ContactMaterial& material,
+                                                double slop = phynjo::runtime::ContactOptions{}.slop) {
+    using namespace phynjo::runtime;
+    ContactOptions o;
+    o.velocity_iterations = 20;
+    o.slop = slop;
+    return Stepper(rigid_contact_step(Force3D::gravity(9.81), all_bodies(w), planes, material, o, w.layout_ptr()));
+}
+
+/// A page titled `title` showing every body of `w` and the `planes`.
+inline phynjo::runtime::Recorder rigid_page(const phynjo::runtime::World& w, std::span<const phynjo::runtime::Plane> planes,
+                                            std::string title) {
+    using namespace phynjo::runtime;
+    Recorder page({.title = std::move(title)});
+    page.add_rigid_bodies(w, all_bodies(w));
+    page.add_planes(planes);
+    return page;
 }
 
 /// Steps `w` to t_end (dt a step), every state into `page` and shown to observe(s, w) (s the

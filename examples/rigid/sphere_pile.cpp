@@ -35,9 +35,7 @@ int main(int argc, char** argv) {
                                     Plane{{0, 0, -1}, -side}};
     Stepper stepper(rigid_contact_step(Force3D::gravity(9.81), all_bodies(w), planes,
                                        ContactMaterial{restitution_curve(0.5, 0.2), constant_curve(0.5)}, {}, w.layout_ptr()));
-    Recorder page({.title = "1,000 spheres dropped into a box (e = 0.5, mu = 0.5)"});
-    page.add_rigid_bodies(w, all_bodies(w));
-    page.add_planes(planes);
+    Recorder page = rigid_page(w, planes, "1,000 spheres dropped into a box (e = 0.5, mu = 0.5)");
     if (!run_settling(w, stepper, dt, t_end, page, dir / "sphere_pile_history.csv", planes)) return 1;
     std::ofstream fin(dir / "sphere_pile_final.csv");
     fin << "x,y,z,speed\n";
