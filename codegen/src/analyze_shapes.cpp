@@ -1,4 +1,4 @@
-// The shape statement: spheres and segments, their points and radii. (analyzer.hpp)
+// The shape statement: spheres, segments and capsules, their points and radii. (analyzer.hpp)
 #include "analyzer.hpp"
 
 namespace phynjo::codegen::detail {
@@ -27,31 +27,44 @@ void Analyzer::visit(const grammar::ast::ShapeStmt& s) {
             shape.points.push_back(*v);
         }
     };
+    // A radius: a constant, positive, finite length.
+    auto radius = [&](const grammar::ast::Expression& e) {
+        auto r = expression(e);
+        if (!r) {
+            ok = false;
+            return;
+        }
+        if (units_)
+            if (auto d = units_->of(e)) units_->expect(e, *d, units::metres(), "the radius of " + what);
+        if (!constant(*r, e, "the radius of " + what, true)) {
+            ok = false;
+            return;
+        }
+        double value = 0;
+        Expr exact = *r;
+        try {
+            exact = cas::subs(*r, parameter_values());
+            value = cas::evaluate(exact, {});
+        } catch (const cas::Error&) {
+            value = std::nan("");
+        }
+        if (!(value > 0) || !std::isfinite(value)) {
+            error(span(e), "the radius of " + what + " is " + cas::to_string(*r) +
+                               (exact == *r ? "" : " = " + cas::to_string(exact) + " at the parameters' defaults") +
+                               ": a radius must be a positive finite length");
+            ok = false;
+        }
+        shape.radius = *r;
+    };
     if (const auto* sphere = boost::get<grammar::ast::Sphere>(&s.geometry)) {
         shape.kind = Shape::Kind::Sphere;
-        if (auto r = expression(sphere->radius)) {
-            if (units_)
-                if (auto d = units_->of(sphere->radius)) units_->expect(sphere->radius, *d, units::metres(), "the radius of " + what);
-            if (!constant(*r, sphere->radius, "the radius of " + what, true)) ok = false;
-            else {
-                double value = 0;
-                Expr exact = *r;
-                try {
-                    exact = cas::subs(*r, parameter_values());
-                    value = cas::evaluate(exact, {});
-                } catch (const cas::Error&) {
-                    value = std::nan("");
-                }
-                if (!(value > 0) || !std::isfinite(value)) {
-                    error(span(sphere->radius), "the radius of " + what + " is " + cas::to_string(*r) +
-                                                    (exact == *r ? "" : " = " + cas::to_string(exact) + " at the parameters' defaults") +
-                                                    ": a radius must be a positive finite length");
-                    ok = false;
-                }
-                shape.radius = *r;
-            }
-        } else ok = false;
+        radius(sphere->radius);
         point(sphere->centre, "centre");
+    } else if (const auto* capsule = boost::get<grammar::ast::Capsule>(&s.geometry)) {
+        shape.kind = Shape::Kind::Capsule;
+        radius(capsule->radius);
+        point(capsule->from, "first end");
+        point(capsule->to, "second end");
     } else {
         const auto& segment = boost::get<grammar::ast::Segment>(s.geometry);
         shape.kind = Shape::Kind::Segment;

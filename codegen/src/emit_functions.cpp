@@ -404,10 +404,9 @@ void FunctionPrinter::apply_event() {
         s << "\n";
 }
 
-/// The shapes' points from one CSE pass; each sphere's ∂(X, Y, Z)/∂q; the radii (phynjo
-/// extension).
+/// The shapes' points from one CSE pass; each sphere's ∂(X, Y, Z)/∂q and each capsule's of
+/// both ends; the radii (phynjo extension).
 void FunctionPrinter::shapes() {
-    const std::vector<Expr>& radii = opt.sphere_radii;
     // a function of (P, t, q) filling `out` from `exprs` (one CSE pass), or its empty stub
     auto of_q = [&](const char* fn, const char* out, const std::vector<Expr>& exprs) {
         if (exprs.empty()) return empty(fn);
@@ -419,15 +418,18 @@ void FunctionPrinter::shapes() {
     };
     of_q("shape_positions", "X", opt.shape_points);
     of_q("sphere_jacobians", "J", opt.sphere_jacobians);
-    s << head("sphere_radii") << "    check_size(r, " << radii.size() << ", \"sphere_radii\", \"r\");\n";
-    if (radii.empty()) s << "    (void)P;\n";
-    else {
-        const std::string b = body(names, radii, res, uses_t, uses_p);
-        s << unused(uses_t, uses_p, false) << b;
-        for (std::size_t k = 0; k < radii.size(); ++k) s << "    r[" << k << "] = " << res[k] << ";\n";
+    of_q("capsule_jacobians", "J", opt.capsule_jacobians);
+    for (const auto& [fn, radii] : {std::pair{"sphere_radii", &opt.sphere_radii}, {"capsule_radii", &opt.capsule_radii}}) {
+        s << head(fn) << "    check_size(r, " << radii->size() << ", \"" << fn << "\", \"r\");\n";
+        if (radii->empty()) s << "    (void)P;\n";
+        else {
+            const std::string b = body(names, *radii, res, uses_t, uses_p);
+            s << unused(uses_t, uses_p, false) << b;
+            for (std::size_t k = 0; k < radii->size(); ++k) s << "    r[" << k << "] = " << res[k] << ";\n";
+        }
+        s.close();
+        s << "\n";
     }
-    s.close();
-    s << "\n";
 }
 
 /// initial_state: the initial values from one CSE pass.

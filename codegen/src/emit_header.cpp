@@ -56,14 +56,26 @@ std::string emit_header(const Model& m, bool mass_depends_on_velocities) {
       << "/// The shapes, in file order.\n"
       << "inline constexpr std::array<std::string_view, n_shapes> shape_names{";
     for (std::size_t k = 0; k < m.shapes.size(); ++k) h << (k ? ", " : "") << '"' << m.shapes[k].name << '"';
-    std::size_t n_spheres = 0;
-    for (const Shape& sh : m.shapes) n_spheres += sh.kind == Shape::Kind::Sphere ? 1 : 0;
+    std::size_t n_spheres = 0, n_capsules = 0;
+    for (const Shape& sh : m.shapes) {
+        n_spheres += sh.kind == Shape::Kind::Sphere ? 1 : 0;
+        n_capsules += sh.kind == Shape::Kind::Capsule ? 1 : 0;
+    }
     h << "};\n/// (phynjo extension) Per shape: true for a sphere (3 entries of shape_positions, and a\n"
-      << "/// Jacobian in sphere_jacobians), false for a segment (6 entries, drawn only).\n"
+      << "/// Jacobian in sphere_jacobians), false for a segment or capsule (6 entries).\n"
       << "inline constexpr std::array<bool, n_shapes> shape_is_sphere{";
     for (std::size_t k = 0; k < m.shapes.size(); ++k) h << (k ? ", " : "") << (m.shapes[k].kind == Shape::Kind::Sphere ? "true" : "false");
-    h << "};\n/// (phynjo extension) Number of spheres (the shapes that collide).\n"
-      << "inline constexpr std::size_t n_spheres = " << n_spheres << ";\n";
+    h << "};\n/// (phynjo extension) Per shape its kind: 0 a segment (6 entries of shape_positions, drawn\n"
+      << "/// only), 1 a sphere (3 entries, a Jacobian in sphere_jacobians), 2 a capsule (6 entries, a\n"
+      << "/// Jacobian in capsule_jacobians).\n"
+      << "inline constexpr std::array<unsigned char, n_shapes> shape_kinds{";
+    for (std::size_t k = 0; k < m.shapes.size(); ++k) {
+        const Shape::Kind kind = m.shapes[k].kind;
+        h << (k ? ", " : "") << (kind == Shape::Kind::Segment ? 0 : kind == Shape::Kind::Sphere ? 1 : 2);
+    }
+    h << "};\n/// (phynjo extension) Number of spheres and of capsules (the shapes that collide).\n"
+      << "inline constexpr std::size_t n_spheres = " << n_spheres << ";\n"
+      << "inline constexpr std::size_t n_capsules = " << n_capsules << ";\n";
     h << "\n/// The parameters, with the defaults of the model file. A parameter defined from others\n"
       << "/// (phynjo::runtime::Derived) follows them until it is assigned a value.\nstruct Parameters {\n";
     for (const auto& p : m.parameters) {
@@ -157,12 +169,17 @@ std::string emit_header(const Model& m, bool mass_depends_on_velocities) {
       << "/// evaluated on (q, qdot) as given — the state just before the event — then stored into\n"
       << "/// them. A `stop` event resets nothing. std::out_of_range for k >= n_events.\n"
       << decl("apply_event")
-      << "/// Shapes, file order: centres of spheres (3 each) and segment end points (6 each).\n"
+      << "/// Shapes, file order: centres of spheres (3 each) and the end points of segments and capsules (6 each).\n"
       << decl("shape_positions")
       << "/// For each sphere, d(X, Y, Z)/dq: 3 x dof, row-major, spheres in file order.\n"
       << decl("sphere_jacobians")
       << "/// (phynjo extension) The spheres' radii (m), file order, length n_spheres.\n"
-      << decl("sphere_radii") << "\n"
+      << decl("sphere_radii")
+      << "/// (phynjo extension) For each capsule, d(X1, Y1, Z1, X2, Y2, Z2)/dq of its two ends: 6 x dof,\n"
+      << "/// row-major, capsules in file order.\n"
+      << decl("capsule_jacobians")
+      << "/// (phynjo extension) The capsules' radii (m), file order, length n_capsules.\n"
+      << decl("capsule_radii") << "\n"
       << "} // namespace " << m.name << "\n#endif\n\n"
       << "#if !defined(PHYNJO_GENERATED_FUNCTIONS_ONLY) && !defined(" << guard << "_RUNTIME)\n#define " << guard
       << "_RUNTIME\n#include \"phynjo/runtime/simulate/generated.hpp\"\n\n"

@@ -42,7 +42,7 @@ std::string numbers(const char* type, const char* name, const Range& items, Get 
 
 std::string emit_kernel_table(const Model& m, bool mass_depends_on_velocities, const std::string& version) {
     std::size_t shape_values = 0;
-    for (const Shape& s : m.shapes) shape_values += s.kind == Shape::Kind::Sphere ? 3 : 6;
+    for (const Shape& s : m.shapes) shape_values += s.point_values();
     std::ostringstream s;
     s << "\n// ---- the C table (phynjo/runtime/system/kernel_abi.h) ----\n"
       << "#include <exception>\n#include <new>\n#include <typeinfo>\n\n"
@@ -73,6 +73,7 @@ std::string emit_kernel_table(const Model& m, bool mass_depends_on_velocities, c
       << "std::span<const double> in_(const double* p, std::size_t n) { return {p, n}; }\n"
       << "std::span<double> out_(double* p, std::size_t n) { return {p, n}; }\n"
       << "constexpr std::size_t n_ = k_::dof, nc_ = k_::n_constraints, ne_ = k_::n_events, ns_ = k_::n_spheres,\n"
+      << "                      nk_ = k_::n_capsules,\n"
       << "                      nu_ = k_::n_inputs, nx_ = " << shape_values << ";\n\n";
 
     // the functions, each through guarded()
@@ -101,6 +102,7 @@ std::string emit_kernel_table(const Model& m, bool mass_depends_on_velocities, c
     positions("constraint_matrix", "nc_ * n_");
     positions("shape_positions", "nx_");
     positions("sphere_jacobians", "3 * n_ * ns_");
+    positions("capsule_jacobians", "6 * n_ * nk_");
     s << "int energy_(const void* P, double t, const double* q, const double* v, double* E) {\n"
       << "    return guarded([&] { *E = k_::energy(P_(P), t, in_(q, n_), in_(v, n_)); });\n}\n"
       << "int accelerations_and_multipliers_(const void* P, double t, const double* q, const double* v, double* a,\n"
@@ -128,6 +130,7 @@ std::string emit_kernel_table(const Model& m, bool mass_depends_on_velocities, c
       << "int apply_event_(const void* P, std::size_t k, double t, double* q, double* v) {\n"
       << "    return guarded([&] { k_::apply_event(P_(P), k, t, out_(q, n_), out_(v, n_)); });\n}\n"
       << "int sphere_radii_(const void* P, double* r) { return guarded([&] { k_::sphere_radii(P_(P), out_(r, ns_)); }); }\n"
+      << "int capsule_radii_(const void* P, double* r) { return guarded([&] { k_::capsule_radii(P_(P), out_(r, nk_)); }); }\n"
       << "const char* last_error() { return last_error_.c_str(); }\n\n";
 
     // parameters: made, copied, set and read by index (file order)
@@ -158,21 +161,24 @@ std::string emit_kernel_table(const Model& m, bool mass_depends_on_velocities, c
       << numbers("int", "event_directions", m.events, [](const Event& e) { return std::to_string(e.direction); })
       << numbers("unsigned char", "event_stops", m.events, [](const Event& e) { return std::string(e.stop ? "1" : "0"); })
       << names("shape_names", m.shapes, [](const Shape& x) { return x.name; })
-      << numbers("unsigned char", "shape_is_sphere", m.shapes, [](const Shape& x) { return std::string(x.kind == Shape::Kind::Sphere ? "1" : "0"); });
+      << numbers("unsigned char", "shape_kinds", m.shapes, [](const Shape& x) {
+             return std::string(x.kind == Shape::Kind::Segment ? "0" : x.kind == Shape::Kind::Sphere ? "1" : "2");
+         });
 
     s << "\nconst phynjo_kernel table = {\n"
       << "    PHYNJO_KERNEL_ABI_VERSION, sizeof(phynjo_kernel), " << quoted(m.name) << ", " << quoted(version) << ",\n"
-      << "    n_, " << m.parameters.size() << ", nu_, nc_, ne_, k_::n_shapes, ns_, nx_, "
+      << "    n_, " << m.parameters.size() << ", nu_, nc_, ne_, k_::n_shapes, ns_, nk_, nx_, "
       << (has_lane_kernel(m) ? "phynjo::runtime::lanes::kWidth" : "0") << ", " << (mass_depends_on_velocities ? 1 : 0) << ",\n"
       << "    coordinate_names, parameter_names, parameter_units, parameter_defaults, parameter_is_input, parameter_is_derived,\n"
-      << "    constraint_names, constraint_holonomic, event_names, event_directions, event_stops, shape_names, shape_is_sphere,\n"
+      << "    constraint_names, constraint_holonomic, event_names, event_directions, event_stops, shape_names, shape_kinds,\n"
       << "    parameters_new, parameters_copy, parameters_delete, parameters_set, parameters_get, parameters_type,\n"
       << "    mass_matrix_, forcing_, accelerations_, momenta_, generalized_forces_,\n"
       << "    constraint_residuals_, constraint_velocity_residuals_, constraint_scales_, constraint_gamma_,\n"
       << "    rhs_jacobian_, input_jacobian_, event_guards_, constraint_matrix_, shape_positions_, sphere_jacobians_,\n"
+      << "    capsule_jacobians_,\n"
       << "    energy_, accelerations_and_multipliers_, canonical_jacobian_, rk4_step_, accelerations_energy_guards_,\n"
       << "    rk4_step_values_, " << (has_lane_kernel(m) ? "rk4_step_values_lanes_each_" : "nullptr")
-      << ", initial_state_, apply_event_, sphere_radii_, last_error};\n"
+      << ", initial_state_, apply_event_, sphere_radii_, capsule_radii_, last_error};\n"
       << "} // namespace\n\n"
       << "extern \"C\" __attribute__((visibility(\"default\"))) const phynjo_kernel* phynjo_kernel_v1(void) { return &table; }\n";
     return s.str();

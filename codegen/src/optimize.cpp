@@ -51,13 +51,16 @@ OptimizedEquations optimize(const Model& m, const EquationsOfMotion& derived) {
     const auto q = m.coordinate_symbols();
     for (const Shape& sh : m.shapes) {
         o.shape_points.insert(o.shape_points.end(), sh.points.begin(), sh.points.end());
-        if (sh.kind != Shape::Kind::Sphere) continue;
-        o.sphere_radii.push_back(sh.radius);
-        for (std::size_t a = 0; a < 3; ++a)
-            for (std::size_t i = 0; i < m.dof(); ++i) o.sphere_jacobians.push_back(cas::diff(sh.points[a], q[i]));
+        if (sh.kind == Shape::Kind::Segment) continue;
+        const bool sphere = sh.kind == Shape::Kind::Sphere;
+        (sphere ? o.sphere_radii : o.capsule_radii).push_back(sh.radius);
+        for (std::size_t a = 0; a < sh.points.size(); ++a)
+            for (std::size_t i = 0; i < m.dof(); ++i)
+                (sphere ? o.sphere_jacobians : o.capsule_jacobians).push_back(cas::diff(sh.points[a], q[i]));
     }
     if (!o.shape_points.empty()) o.shape_points = cas::horner(o.shape_points);
     if (!o.sphere_jacobians.empty()) o.sphere_jacobians = cas::horner(o.sphere_jacobians);
+    if (!o.capsule_jacobians.empty()) o.capsule_jacobians = cas::horner(o.capsule_jacobians);
     o.initial_values = m.initial_q;
     o.initial_values.insert(o.initial_values.end(), m.initial_qdot.begin(), m.initial_qdot.end());
     return o;

@@ -33,4 +33,5 @@ BOOST_FUSION_ADAPT_STRUCT(phynjo::grammar::ast::EventStmt, name, lhs, relation, 
 BOOST_FUSION_ADAPT_STRUCT(phynjo::grammar::ast::Point, x, y, z)
 BOOST_FUSION_ADAPT_STRUCT(phynjo::grammar::ast::Sphere, radius, centre)
 BOOST_FUSION_ADAPT_STRUCT(phynjo::grammar::ast::Segment, from, to)
+BOOST_FUSION_ADAPT_STRUCT(phynjo::grammar::ast::Capsule, radius, from, to)
 BOOST_FUSION_ADAPT_STRUCT(phynjo::grammar::ast::ShapeStmt, name, geometry)

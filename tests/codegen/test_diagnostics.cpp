@@ -202,7 +202,7 @@ TEST_CASE("lag diagnostics: events, with notes", "[codegen][diagnostics][events]
 
 
 // Bugs caught: a negative or non-constant radius accepted, a shape that moves with a
-// velocity, a missing 'at'/'to' reported in X3's words, a second shape of a name without
+// velocity, a missing 'at'/'to'/'from' reported in X3's words, a second shape of a name without
 // the note to the first, a centre that is not a length in a file with units.
 TEST_CASE("lag diagnostics: shapes", "[codegen][diagnostics][shapes]") {
     CHECK(diagnose("coordinates x\nparameters r = -1/10\nlagrangian 1/2*x'^2\nshape b: sphere r at (x, 0, 0)\n") ==
@@ -218,8 +218,22 @@ TEST_CASE("lag diagnostics: shapes", "[codegen][diagnostics][shapes]") {
           "m.lag:3:28: error: expected 'to', found '('\n    shape s: segment (0, 0, 0) (x, 0, 0)\n"
           "                               ^\n");
     CHECK(diagnose("coordinates x\nlagrangian 1/2*x'^2\nshape s: box 1 at (x, 0, 0)\n") ==
-          "m.lag:3:10: error: expected a shape (sphere R at (X, Y, Z) or segment (X1, Y1, Z1) to (X2, Y2, Z2)), found "
-          "'box'\n    shape s: box 1 at (x, 0, 0)\n             ^~~\n");
+          "m.lag:3:10: error: expected a shape (sphere R at (X, Y, Z), segment (X1, Y1, Z1) to (X2, Y2, Z2) or capsule R "
+          "from (X1, Y1, Z1) to (X2, Y2, Z2)), found 'box'\n    shape s: box 1 at (x, 0, 0)\n             ^~~\n");
+    // capsules: 'from' and 'to' in their places, a radius like a sphere's, ends without velocities
+    CHECK(diagnose("coordinates x\nlagrangian 1/2*x'^2\nshape c: capsule 1 (0, 0, 0) to (x, 0, 0)\n") ==
+          "m.lag:3:20: error: expected 'from', found '('\n    shape c: capsule 1 (0, 0, 0) to (x, 0, 0)\n"
+          "                       ^\n");
+    CHECK(diagnose("coordinates x\nlagrangian 1/2*x'^2\nshape c: capsule 1 from (0, 0, 0) (x, 0, 0)\n") ==
+          "m.lag:3:35: error: expected 'to', found '('\n    shape c: capsule 1 from (0, 0, 0) (x, 0, 0)\n"
+          "                                      ^\n");
+    CHECK(diagnose("coordinates x\nlagrangian 1/2*x'^2\nshape c: capsule 0 from (0, 0, 0) to (x, 0, 0)\n") ==
+          "m.lag:3:18: error: the radius of shape 'c' is 0: a radius must be a positive finite length\n"
+          "    shape c: capsule 0 from (0, 0, 0) to (x, 0, 0)\n                     ^~\n");
+    CHECK(diagnose("coordinates x\nlagrangian 1/2*x'^2\nshape c: capsule 1 from (0, 0, 0) to (x, x', 0)\n") ==
+          "m.lag:3:42: error: the second end of shape 'c' depends on the velocity x': a shape's position may depend on "
+          "t, coordinates, parameters and inputs\n    shape c: capsule 1 from (0, 0, 0) to (x, x', 0)\n"
+          "                                             ^~\n");
     CHECK(diagnose("coordinates x\nlagrangian 1/2*x'^2\nshape s: sphere 1 at (x, 0, 0)\nshape s: sphere 2 at (0, x, 0)\n") ==
           "m.lag:4:7: error: a second shape named 's'\n    shape s: sphere 2 at (0, x, 0)\n          ^\n"
           "m.lag:3:7: note: the first shape 's' is here\n    shape s: sphere 1 at (x, 0, 0)\n          ^\n");
@@ -229,7 +243,11 @@ TEST_CASE("lag diagnostics: shapes", "[codegen][diagnostics][shapes]") {
     // accepted: a fixed obstacle (no coordinate), t and inputs in a position, a radius from
     // parameters, segments
     CHECK(diagnose("coordinates x\nparameters r = 1/10\ninput u = 0\nlagrangian 1/2*x'^2\nshape wall: sphere 1 at (5, 0, 0)\n"
-                   "shape b: sphere 2*r at (x + u, sin(t), 0)\nshape rod: segment (0, 0, 0) to (x, 0, 0)\n") == "(accepted)");
+                   "shape b: sphere 2*r at (x + u, sin(t), 0)\nshape rod: segment (0, 0, 0) to (x, 0, 0)\n"
+                   "shape arm: capsule r from (0, 0, 0) to (x, 0, 0)\n") == "(accepted)");
+    // 'from', like 'at' and 'to', is a keyword only inside its statement: a parameter may be named so
+    CHECK(diagnose("coordinates x\nparameters from = 1/10\nlagrangian 1/2*x'^2\n"
+                   "shape arm: capsule from from (0, 0, 0) to (x, from, 0)\n") == "(accepted)");
 }
 
 // Bugs caught: a dimension check that stops at the first error of a file, misses a term of

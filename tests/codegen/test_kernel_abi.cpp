@@ -62,12 +62,13 @@ void compare(const LagrangianSystem& a, const LagrangianSystem& b, std::uint32_t
     REQUIRE(a.event_directions == b.event_directions);
     REQUIRE(a.event_stops == b.event_stops);
     REQUIRE(a.shape_names == b.shape_names);
-    REQUIRE(a.shape_is_sphere == b.shape_is_sphere);
+    REQUIRE(a.shape_kinds == b.shape_kinds);
+    REQUIRE(a.n_spheres == b.n_spheres);
+    REQUIRE(a.n_capsules == b.n_capsules);
     REQUIRE(a.mass_depends_on_velocities == b.mass_depends_on_velocities);
     REQUIRE(bool(a.rk4_step_values_lanes_each) == bool(b.rk4_step_values_lanes_each));
     const std::size_t n = a.dof, nc = a.n_constraints, ne = a.n_events;
-    std::size_t nx = 0;
-    for (unsigned char s : a.shape_is_sphere) nx += s ? 3 : 6;
+    const std::size_t nx = a.n_shape_values();
     std::mt19937 rng(seed);
     std::uniform_real_distribution<double> u(-2, 2);
     for (int trial = 0; trial < 50; ++trial) {
@@ -140,6 +141,8 @@ void compare(const LagrangianSystem& a, const LagrangianSystem& b, std::uint32_t
             both([&](const LagrangianSystem& s, std::vector<double>& o) { s.shape_positions(t, q, o); }, nx);
             both([&](const LagrangianSystem& s, std::vector<double>& o) { s.sphere_jacobians(t, q, o); }, 3 * n * a.n_spheres);
             both([&](const LagrangianSystem& s, std::vector<double>& o) { s.sphere_radii(o); }, a.n_spheres);
+            both([&](const LagrangianSystem& s, std::vector<double>& o) { s.capsule_jacobians(t, q, o); }, 6 * n * a.n_capsules);
+            both([&](const LagrangianSystem& s, std::vector<double>& o) { s.capsule_radii(o); }, a.n_capsules);
         }
     }
     std::vector<double> qa(n), va(n), qb(n), vb(n);

@@ -12,7 +12,7 @@ sim=$1
 "$sim" --help | grep -q -- "--shapes FILE" && ok "--help lists --shapes" || bad "--help"
 "$sim" --t-end 2 --dt 0.01 --every 10 --param h=0.25 -o "$work/out.csv" --shapes "$work/shapes.csv"; rc=$?
 [ $rc -eq 0 ] && ok "exit 0" || bad "exit $rc"
-want="t,bob1_x,bob1_y,bob1_z,rod1_x1,rod1_y1,rod1_z1,rod1_x2,rod1_y2,rod1_z2,bob2_x,bob2_y,bob2_z,rod2_x1,rod2_y1,rod2_z1,rod2_x2,rod2_y2,rod2_z2,post_x,post_y,post_z,float_x,float_y,float_z"
+want="t,bob1_x,bob1_y,bob1_z,rod1_x1,rod1_y1,rod1_z1,rod1_x2,rod1_y2,rod1_z2,bob2_x,bob2_y,bob2_z,rod2_x1,rod2_y1,rod2_z1,rod2_x2,rod2_y2,rod2_z2,post_x,post_y,post_z,float_x,float_y,float_z,arm_x1,arm_y1,arm_z1,arm_x2,arm_y2,arm_z2,lever_x1,lever_y1,lever_z1,lever_x2,lever_y2,lever_z2"
 [ "$(head -1 "$work/shapes.csv")" = "$want" ] && ok "header" || bad "header: $(head -1 "$work/shapes.csv")"
 [ "$(wc -l < "$work/shapes.csv")" = "$(wc -l < "$work/out.csv")" ] && [ "$(wc -l < "$work/out.csv")" -eq 22 ] \
   && ok "one row per output row (21 + header)" || bad "rows: $(wc -l < "$work/shapes.csv") vs $(wc -l < "$work/out.csv")"
@@ -24,12 +24,13 @@ paste -d, "$work/out.csv" "$work/shapes.csv" | awk -F, '
     x1 = sin(th1); y1 = -cos(th1)
     if (abs($(n+1) - x1) > 1e-12 || abs($(n+2) - y1) > 1e-12 || $(n+3) != 0) bad = "bob1 at t = " t
     if (abs($(n+7) - x1) > 1e-12 || abs($(n+8) - y1) > 1e-12) bad = "rod1 end at t = " t
+    if ($(n+25) != 0 || abs($(n+28) - x1) > 1e-12 || abs($(n+29) - y1) > 1e-12) bad = "arm (capsule) at t = " t
     if ($(n+19) != 1 || $(n+20) != -2 || $(n+21) != 0) bad = "post moved at t = " t
     if (abs($(n+22) - 0.25) > 1e-15 || abs($(n+23) - sin(2 * t)) > 1e-12) bad = "float at t = " t
   }
   function abs(v) { return v < 0 ? -v : v }
   END { if (bad) { print bad; exit 1 } }' > "$work/why.txt" \
-  && ok "bob, rod, post and float where the model puts them" || bad "positions: $(cat "$work/why.txt")"
+  && ok "bob, rod, post, float and arm where the model puts them" || bad "positions: $(cat "$work/why.txt")"
 "$sim" --t-end 1 --shapes /nonexistent/dir/s.csv -o "$work/o.csv" 2> "$work/err.txt"; rc=$?
 [ $rc -eq 1 ] && grep -q "cannot write /nonexistent/dir/s.csv" "$work/err.txt" && ok "unwritable --shapes: exit 1, named" \
   || bad "unwritable: exit $rc, $(cat "$work/err.txt")"

@@ -227,12 +227,16 @@ TEST_CASE("recorder: a generated model's shapes and series, against its kinemati
         rec.capture(w);
     }
     rec.capture_last(w);
-    REQUIRE(rec.bodies().size() == 6);
+    REQUIRE(rec.bodies().size() == 8);
     CHECK(rec.bodies()[1].kind == ViewBody::Kind::rod);
+    CHECK(rec.bodies()[1].radius == 0); // a segment: the page's thin rod
     CHECK(rec.bodies()[2].radius == 3.0 / 40);
+    CHECK(rec.bodies()[6].kind == ViewBody::Kind::rod); // a capsule: a rod of its radius
+    CHECK(rec.bodies()[6].radius == 3.0 / 80);
+    CHECK(rec.bodies()[7].radius == 1.0 / 25);
     const std::size_t n_series = rec.series().size();
     REQUIRE(n_series == 5); // th1, th2, th1', th2', E − E(0)
-    const Decoded d = decode_page(rec.html(), n_series, 24, 0);
+    const Decoded d = decode_page(rec.html(), n_series, 36, 0);
     REQUIRE(d.times.size() == 11);
     CHECK(d.times.back() == w.time);
     const double e0 = sys.energy(0, std::vector<double>{0.3, -0.2}, std::vector<double>{0, 0});
@@ -242,8 +246,9 @@ TEST_CASE("recorder: a generated model's shapes and series, against its kinemati
         const double x2 = x1 + P.l2 * std::sin(th2) * std::cos(th1), y2 = y1 + P.l2 * std::sin(th2) * std::sin(th1),
                      z2 = -P.l2 * std::cos(th2);
         const std::vector<double> by_hand{x1, y1, 0, 0, 0, 0, x1, y1, 0, x2, y2, z2, x1, y1, 0, x2, y2, z2,
-                                          1, -2, 0, P.h, P.a * std::sin(P.w * d.times[f]), 0};
-        for (std::size_t i = 0; i < 24; ++i) CHECK(d.positions[24 * f + i] == Approx(by_hand[i]).margin(1e-7));
+                                          1, -2, 0, P.h, P.a * std::sin(P.w * d.times[f]), 0,
+                                          0, 0, 0, x1, y1, 0, x1, y1, 0, x2, y2, z2};
+        for (std::size_t i = 0; i < 36; ++i) CHECK(d.positions[36 * f + i] == Approx(by_hand[i]).margin(1e-7));
         const double e = sys.energy(d.times[f], std::vector<double>{th1, th2}, std::vector<double>{d.series[2][f], d.series[3][f]});
         CHECK(d.series[4][f] == e - e0);
     }

@@ -84,13 +84,18 @@ def test_the_hook_reports_the_run_and_positions_match_the_csv(pages, driver):
     times = [float(r["t"]) for r in points]
     frames = expected_frame_times(times, FPS)
     assert hook[0] == len(frames)
-    assert hook[1] == 6
+    assert hook[1] == 8
     assert hook[2] == [0, T_END]
-    assert hook[3] == ["bob1", "rod1", "bob2", "rod2", "post", "float"]
+    assert hook[3] == ["bob1", "rod1", "bob2", "rod2", "post", "float", "arm", "lever"]
+    # the capsules: rods of their radii (r2/2 and 1/25 m), the segments thin rods
+    kinds = driver.execute_script("return phynjo.meta.bodies.map(b => [b.kind, b.radius])")
+    assert kinds[1] == ["rod", 0] and kinds[6] == ["rod", 0.0375] and kinds[7] == ["rod", 0.04]
     by_time = {float(r["t"]): r for r in points}
     columns = {"bob1": ["bob1_x", "bob1_y", "bob1_z"], "rod1": ["rod1_x1", "rod1_y1", "rod1_z1", "rod1_x2", "rod1_y2", "rod1_z2"],
                "bob2": ["bob2_x", "bob2_y", "bob2_z"], "rod2": ["rod2_x1", "rod2_y1", "rod2_z1", "rod2_x2", "rod2_y2", "rod2_z2"],
-               "post": ["post_x", "post_y", "post_z"], "float": ["float_x", "float_y", "float_z"]}
+               "post": ["post_x", "post_y", "post_z"], "float": ["float_x", "float_y", "float_z"],
+               "arm": ["arm_x1", "arm_y1", "arm_z1", "arm_x2", "arm_y2", "arm_z2"],
+               "lever": ["lever_x1", "lever_y1", "lever_z1", "lever_x2", "lever_y2", "lever_z2"]}
     for f in (0, len(frames) // 2, len(frames) - 1):
         t = driver.execute_script("return phynjo.frameTime(arguments[0])", f)
         assert t == frames[f]

@@ -42,7 +42,7 @@ double Solver::curve(const MaterialCurve& c, double speed, bool restitution) con
 
 void Solver::gather(const World& w) {
     const std::size_t n = ids_.size();
-    bodies_.resize(n + 1);
+    bodies_.resize(n + 1 + n_capsules_); // then the static body, then the model capsules
     for (std::size_t k = 0; k < n_rigid_; ++k) {
         const Index i = ids_[k];
         Body& b = bodies_[k];
@@ -119,13 +119,16 @@ double Solver::geometry(const Row& c, double* n) const {
         return (xa[0] - xb[0]) * c.n[0] + (xa[1] - xb[1]) * c.n[1] + (xa[2] - xb[2]) * c.n[2];
     }
     const Body& A = bodies_[c.a];
+    double ta[3], tb[3];
+    const double* pa = at_fraction(A, c.sa, false, ta); // a model capsule's point at s
     if (c.plane >= 0) {
         const Plane& pl = planes_[static_cast<std::size_t>(c.plane)];
         n[0] = pl.normal.x(), n[1] = pl.normal.y(), n[2] = pl.normal.z();
-        return dot(n, A.p) - pl.offset - A.r;
+        return dot(n, pa) - pl.offset - A.r;
     }
     const Body& B = bodies_[c.b];
-    const double d[3] = {A.p[0] - B.p[0], A.p[1] - B.p[1], A.p[2] - B.p[2]};
+    const double* pb = at_fraction(B, c.sb, false, tb);
+    const double d[3] = {pa[0] - pb[0], pa[1] - pb[1], pa[2] - pb[2]};
     const double l = std::sqrt(dot(d, d));
     if (l > 0) {
         n[0] = d[0] / l, n[1] = d[1] / l, n[2] = d[2] / l;
@@ -199,12 +202,12 @@ void Solver::correct_positions() {
                 continue;
             }
             if (has_model(c)) {
-                const double wsum = linear_inverse_mass(A, n) + linear_inverse_mass(Bb, n);
+                const double wsum = linear_inverse_mass(A, n, c.sa) + linear_inverse_mass(Bb, n, c.sb);
                 if (!(wsum > kSingularInverseMass * (inverse_mass_scale(A) + inverse_mass_scale(Bb)))) continue;
                 any = true;
                 const double corr = beta * depth / wsum;
-                position_impulse(A, c.a, corr, n, jacobi);
-                if (c.plane < 0) position_impulse(Bb, c.b, -corr, n, jacobi);
+                position_impulse(A, c.a, corr, n, jacobi, c.sa);
+                if (c.plane < 0) position_impulse(Bb, c.b, -corr, n, jacobi, c.sb);
                 continue;
             }
             any = true;
@@ -234,8 +237,12 @@ void Solver::correct_positions() {
     }
 }
 
-void Solver::position_impulse(const Body& X, std::size_t index, double corr, const double* n, bool jacobi) {
+void Solver::position_impulse(const Body& X, std::size_t index, double corr, const double* n, bool jacobi, double s) {
     const double l[3] = {corr * n[0], corr * n[1], corr * n[2]};
+    if (is_model_capsule(X)) {
+        model_impulse(X, l, bodies_, true, s);
+        return;
+    }
     if (X.model < 0) { // a rigid body moves by l/m
         for (int k = 0; k < 3; ++k) {
             if (jacobi)
@@ -287,18 +294,18 @@ void Solver::setup_rows(double dt) {
             c.mu = curve(material_.friction, std::sqrt(vt1 * vt1 + vt2 * vt2), false);
             continue;
         }
-        c.ra = A.r;
-        c.rb = c.plane >= 0 ? 0.0 : B.r;
+        c.ra = is_model_capsule(A) ? 0.0 : A.r; // a model capsule does not spin
+        c.rb = c.plane >= 0 || is_model_capsule(B) ? 0.0 : B.r;
         c.sep = geometry(c, c.n);
         tangent_basis(c.n, c.t1, c.t2);
         if (has_model(c)) {
             // A model sphere's translational inverse mass depends on the direction, and a
             // direction it cannot move along (K⁻¹ ≈ 0 on both sides) takes no impulse.
             const double floor = kSingularInverseMass * (sa * inverse_mass_scale(A) + sb * inverse_mass_scale(B));
-            const double kn = sa * linear_inverse_mass(A, c.n) + sb * linear_inverse_mass(B, c.n);
-            const double k1 = sa * linear_inverse_mass(A, c.t1) + sb * linear_inverse_mass(B, c.t1) +
+            const double kn = sa * linear_inverse_mass(A, c.n, c.sa) + sb * linear_inverse_mass(B, c.n, c.sb);
+            const double k1 = sa * linear_inverse_mass(A, c.t1, c.sa) + sb * linear_inverse_mass(B, c.t1, c.sb) +
                               sa * c.ra * c.ra * quad(A.ii, c.t2) + sb * c.rb * c.rb * quad(B.ii, c.t2);
-            const double k2 = sa * linear_inverse_mass(A, c.t2) + sb * linear_inverse_mass(B, c.t2) +
+            const double k2 = sa * linear_inverse_mass(A, c.t2, c.sa) + sb * linear_inverse_mass(B, c.t2, c.sb) +
                               sa * c.ra * c.ra * quad(A.ii, c.t1) + sb * c.rb * c.rb * quad(B.ii, c.t1);
             c.mn = kn > floor ? 1 / kn : 0;
             c.mt1 = k1 > floor ? 1 / k1 : 0;
@@ -347,8 +354,8 @@ void Solver::apply_normal(Row& c, double l, std::vector<Body>& B) {
     Body& Bb = B[c.b];
     if (A.model >= 0 || Bb.model >= 0) {
         const double pa[3] = {l * c.n[0], l * c.n[1], l * c.n[2]}, pb[3] = {-pa[0], -pa[1], -pa[2]};
-        side_impulse(A, pa, nullptr, 0, B);
-        side_impulse(Bb, pb, nullptr, 0, B);
+        side_impulse(A, pa, nullptr, 0, c.sa, B);
+        side_impulse(Bb, pb, nullptr, 0, c.sb, B);
         return;
     }
     for (int k = 0; k < 3; ++k) {
@@ -372,8 +379,8 @@ void Solver::apply_tangent(Row& c, double l1, double l2, std::vector<Body>& B) {
             pb[k] = -pa[k];
             u[k] = l2 * c.t1[k] - l1 * c.t2[k];
         }
-        side_impulse(A, pa, u, c.ra, B);
-        side_impulse(Bb, pb, u, c.rb, B);
+        side_impulse(A, pa, u, c.ra, c.sa, B);
+        side_impulse(Bb, pb, u, c.rb, c.sb, B);
         return;
     }
     double u[3], ia[3], ib[3];
@@ -391,9 +398,9 @@ void Solver::apply_tangent(Row& c, double l1, double l2, std::vector<Body>& B) {
     }
 }
 
-void Solver::side_impulse(Body& X, const double* p, const double* u, double r, std::vector<Body>& B) {
-    if (X.model >= 0) { // no spin: the impulse acts at the sphere's centre
-        model_impulse(X, p, B, false);
+void Solver::side_impulse(Body& X, const double* p, const double* u, double r, double s, std::vector<Body>& B) {
+    if (X.model >= 0) { // no spin: the impulse acts at the sphere's centre (the capsule's point at s)
+        model_impulse(X, p, B, false, s);
         return;
     }
     for (int k = 0; k < 3; ++k) X.v[k] += X.im * p[k];
@@ -406,7 +413,9 @@ void Solver::side_impulse(Body& X, const double* p, const double* u, double r, s
 
 void Solver::find_slots(const World& w) {
     if (slots_.empty()) return;
+    const std::size_t stat = ids_.size();
     for (Row& c : rows_) {
+        if (c.a > stat || c.b > stat) continue; // a model capsule's: no cache (its point moves along it)
         const Index a = ids_[c.a];
         const double key = cache_key(c);
         for (std::size_t k = 0; k < slots_.size(); ++k) {
@@ -609,7 +618,7 @@ void Solver::store_cache(World& w) const {
     // Rows are grouped by body a (pairs sorted by a, then the planes of each body in order),
     // but a body's rows need not be contiguous: fill the first free slot of each.
     for (const Row& c : rows_) {
-        if (c.jn <= 0) continue;
+        if (c.jn <= 0 || c.a > ids_.size() || c.b > ids_.size()) continue; // model capsules: no cache
         const Index a = ids_[c.a];
         for (const Slot& s : slots_) {
             if (w.at(s.partner, a) != 0) continue;

@@ -24,10 +24,15 @@ void Solver::detect(const World& w, double dt) {
         margins_[k] = uniform ? 0.5 * options_.margin
                               : std::min(r, std::max(2 * std::sqrt(dot(b.v, b.v)) * dt, std::max(options_.slop, 0.02 * r)));
     }
-    if (shape_field_ >= 0) {
+    if (shape_field_ >= 0 && models_.empty()) {
         detect_shapes(w);
         return;
     }
+    if (shape_field_ >= 0) // a scene with shape fields: its rigid bodies must be spheres (as detect_shapes says)
+        for (std::size_t k = 0; k < n_rigid_; ++k)
+            if (bodies_[k].shape != Shape::sphere)
+                throw Error("contact: '" + layout_->components.label(ids_[k]) +
+                            "' is a box or capsule in a scene with models; their spheres meet spheres only");
     if (sphere_pairs_) {
         spheres_.resize(ids_.size());
         for (std::size_t k = 0; k < ids_.size(); ++k) {
@@ -59,6 +64,68 @@ void Solver::detect(const World& w, double dt) {
     else
         sphere_plane_contacts(w, ids_, planes_, std::span<const double>(margins_), contacts_);
     spheres_to_rows(w);
+    if (n_capsules_ > 0) capsule_rows(dt);
+}
+
+void Solver::capsule_rows(double dt) {
+    const bool uniform = options_.margin >= 0;
+    const auto stat = static_cast<std::uint32_t>(ids_.size());
+    auto capsule_of = [](const Body& b) {
+        return Capsule{Eigen::Vector3d(b.p[0], b.p[1], b.p[2]), Eigen::Vector3d(b.p2[0], b.p2[1], b.p2[2]), b.r};
+    };
+    // The fraction along [p0, p1] of the point of the axis nearest x.
+    auto fraction = [](const Capsule& c, const Eigen::Vector3d& x) {
+        const Eigen::Vector3d d = c.p1 - c.p0;
+        const double l2 = d.squaredNorm();
+        return l2 > 0 ? std::clamp((x - c.p0).dot(d) / l2, 0.0, 1.0) : 0.0;
+    };
+    // The margin of a capsule as detect's of a sphere, at the faster end.
+    auto margin_of = [&](const Body& b) {
+        if (uniform) return 0.5 * options_.margin;
+        const double v = std::sqrt(std::max(dot(b.v, b.v), dot(b.v2, b.v2)));
+        return std::min(b.r, std::max(2 * v * dt, std::max(options_.slop, 0.02 * b.r)));
+    };
+    Manifold m;
+    auto add = [&](std::uint32_t a, std::uint32_t b, int plane, const Capsule& ca, const Capsule* cb) {
+        for (int i = 0; i < m.count; ++i) {
+            const ManifoldPoint& p = m.points[static_cast<std::size_t>(i)];
+            Row& r = rows_.emplace_back();
+            r.a = a;
+            r.b = b;
+            r.plane = plane;
+            r.jn = r.jt1 = r.jt2 = 0;
+            r.slot = -1;
+            r.point = false;
+            r.block_size = 1;
+            r.block = -1;
+            r.sa = fraction(ca, p.on_a + ca.radius * m.normal); // the axis points behind the surface points
+            r.sb = cb != nullptr ? fraction(*cb, p.on_b - cb->radius * m.normal) : 0.0;
+        }
+    };
+    const std::uint32_t first = stat + 1;
+    for (std::uint32_t k = first; k < first + n_capsules_; ++k) {
+        const Body& A = bodies_[k];
+        const Capsule ca = capsule_of(A);
+        const double ma = margin_of(A);
+        for (std::size_t i = 0; i < planes_.size(); ++i) {
+            capsule_plane(ca, planes_[i], ma, m);
+            add(k, stat, static_cast<int>(i), ca, nullptr);
+        }
+        for (std::uint32_t j = 0; j < stat; ++j) { // spheres: rigid, and other models'
+            const Body& B = bodies_[j];
+            if (!(B.r > 0) || B.model == A.model) continue;
+            const double mb = uniform ? 0.5 * options_.margin : margins_[j];
+            capsule_sphere(ca, SphereBB{Eigen::Vector3d(B.p[0], B.p[1], B.p[2]), B.r}, ma + mb, m);
+            add(k, j, -1, ca, nullptr);
+        }
+        for (std::uint32_t j = first; j < k; ++j) { // other models' capsules
+            const Body& B = bodies_[j];
+            if (B.model == A.model) continue;
+            const Capsule cb = capsule_of(B);
+            capsule_capsule(ca, cb, ma + margin_of(B), m);
+            add(k, j, -1, ca, &cb);
+        }
+    }
 }
 
 void Solver::spheres_to_rows(const World& w) {
@@ -82,6 +149,7 @@ void Solver::spheres_to_rows(const World& w) {
         r.point = false; // the scratch row may have been a manifold's
         r.block_size = 1;
         r.block = -1;
+        r.sa = r.sb = 0;
     }
     rows_.resize(kept);
 }

@@ -1,4 +1,4 @@
-// The contact solver's coupling of model spheres (scenes): a model's M, G and B = P M⁻¹Jᵀ at the step's state, impulses on its spheres as changes of q' (or q), the model written back (solver.hpp).
+// The contact solver's coupling of model spheres and capsules (scenes): a model's M, G and B = P M⁻¹Jᵀ at the step's state, impulses on its points as changes of q' (or q), the model written back (solver.hpp).
 #include "solver.hpp"
 #include "cholesky.hpp"
 
@@ -8,9 +8,18 @@
 
 namespace phynjo::runtime::contact_detail {
 
+namespace {
+/// The 6 entries (xx, yy, zz, xy, xz, yz) of the symmetric part of a.
+void store_symmetric(const double (&a)[3][3], double* A) {
+    A[0] = a[0][0], A[1] = a[1][1], A[2] = a[2][2];
+    A[3] = 0.5 * (a[0][1] + a[1][0]), A[4] = 0.5 * (a[0][2] + a[2][0]), A[5] = 0.5 * (a[1][2] + a[2][1]);
+}
+} // namespace
+
 void Solver::gather_model(const World& w, ModelScratch& m, std::size_t index) {
     const LagrangianSystem& s = *m.placed.system;
-    const std::size_t n = s.dof, ns = m.placed.spheres.size(), nb = 3 * ns, nc = s.n_constraints;
+    const std::size_t n = s.dof, ns = m.placed.spheres.size(), nk = m.placed.ends.size(), nb = 3 * (ns + 2 * nk),
+                      nc = s.n_constraints;
     for (std::size_t i = 0; i < n; ++i) {
         m.q[i] = w.at(q_field_, m.placed.coordinates[i]);
         m.qd[i] = w.at(qd_field_, m.placed.coordinates[i]);
@@ -20,14 +29,16 @@ void Solver::gather_model(const World& w, ModelScratch& m, std::size_t index) {
     const double t = w.time;
     m.sync.q = m.q; // sizes fixed: no allocation
     m.sync.qd = m.qd;
-    sphere_states(m.placed, t, m.sync); // centres, velocities, J (3·ns × n, row-major)
+    sphere_states(m.placed, t, m.sync); // centres, ends, velocities, J and Jc (row-major)
+    // Row c of the points' Jacobian: the spheres' 3·ns rows, then the capsules' 6 each.
+    auto jrow = [&](std::size_t c) { return c < 3 * ns ? &m.sync.J[c * n] : &m.sync.Jc[(c - 3 * ns) * n]; };
     s.mass_matrix(t, m.q, m.qd, m.M);
     if (!cholesky(m.M.data(), n))
         throw Error("contact: the mass matrix of model '" + m.placed.name + "' is not positive definite at t = " +
                     std::to_string(t) + " s: its spheres' effective masses are undefined");
     // B = M⁻¹ Jᵀ (n × 3·ns, row-major), column by column.
     for (std::size_t i = 0; i < n; ++i)
-        for (std::size_t c = 0; c < nb; ++c) m.B[i * nb + c] = m.sync.J[c * n + i];
+        for (std::size_t c = 0; c < nb; ++c) m.B[i * nb + c] = jrow(c)[i];
     for (std::size_t c = 0; c < nb; ++c) cholesky_solve(m.M.data(), n, &m.B[c], nb);
     if (nc > 0) { // B ← B − M⁻¹Gᵀ (G M⁻¹ Gᵀ)⁻¹ G B: the impulses keep G Δq' = 0
         s.constraint_matrix(t, m.q, m.G); // nc × n
@@ -65,9 +76,7 @@ void Solver::gather_model(const World& w, ModelScratch& m, std::size_t index) {
                 for (std::size_t i = 0; i < n; ++i) v += m.sync.J[(3 * j + r) * n + i] * m.B[i * nb + 3 * j + c];
                 a[r][c] = v;
             }
-        double* A = &m.A[6 * j]; // J_s B_s: symmetric up to round-off
-        A[0] = a[0][0], A[1] = a[1][1], A[2] = a[2][2];
-        A[3] = 0.5 * (a[0][1] + a[1][0]), A[4] = 0.5 * (a[0][2] + a[2][0]), A[5] = 0.5 * (a[1][2] + a[2][1]);
+        store_symmetric(a, &m.A[6 * j]); // J_s B_s: symmetric up to round-off
         Body& b = bodies_[m.first + j];
         b = Body{};
         b.model = static_cast<int>(index);
@@ -78,15 +87,53 @@ void Solver::gather_model(const World& w, ModelScratch& m, std::size_t index) {
             b.v[k] = m.sync.V[3 * j + k];
         }
     }
+    for (std::size_t k = 0; k < nk; ++k) {
+        // A_ij = J_i B_j of the ends i, j: A₁₁, A₂₂ and the symmetric part of A₁₂
+        const std::size_t e1 = 3 * ns + 6 * k, e2 = e1 + 3;
+        double* A = &m.A[6 * ns + 18 * k];
+        const std::size_t at[3][2] = {{e1, e1}, {e2, e2}, {e1, e2}};
+        for (int x = 0; x < 3; ++x) {
+            double a[3][3];
+            for (std::size_t r = 0; r < 3; ++r)
+                for (std::size_t c = 0; c < 3; ++c) {
+                    const double* row = jrow(at[x][0] + r);
+                    double v = 0;
+                    for (std::size_t i = 0; i < n; ++i) v += row[i] * m.B[i * nb + at[x][1] + c];
+                    a[r][c] = v;
+                }
+            store_symmetric(a, A + 6 * x);
+        }
+        Body& b = bodies_[m.first_capsule + k];
+        b = Body{};
+        b.model = static_cast<int>(index);
+        b.sphere = static_cast<int>(k);
+        b.shape = Shape::capsule;
+        b.r = m.placed.capsule_radii[k];
+        for (std::size_t d = 0; d < 3; ++d) {
+            b.p[d] = m.sync.E[6 * k + d];
+            b.p2[d] = m.sync.E[6 * k + 3 + d];
+            b.v[d] = m.sync.EV[6 * k + d];
+            b.v2[d] = m.sync.EV[6 * k + 3 + d];
+        }
+    }
 }
 
-void Solver::model_impulse(const Body& X, const double* lambda, std::vector<Body>& B, bool position) {
+void Solver::model_impulse(const Body& X, const double* lambda, std::vector<Body>& B, bool position, double s) {
     ModelScratch& m = models_[static_cast<std::size_t>(X.model)];
-    const std::size_t n = m.q.size(), ns = m.placed.spheres.size(), nb = 3 * ns;
-    const std::size_t c = 3 * static_cast<std::size_t>(X.sphere);
-    for (std::size_t i = 0; i < n; ++i) {
-        const double* row = &m.B[i * nb + c];
-        m.dq[i] = row[0] * lambda[0] + row[1] * lambda[1] + row[2] * lambda[2];
+    const std::size_t n = m.q.size(), ns = m.placed.spheres.size(), nk = m.placed.ends.size(), nb = 3 * (ns + 2 * nk);
+    if (X.shape == Shape::capsule) { // B(s) Λ = (1 − s) B₁ Λ + s B₂ Λ
+        const std::size_t c = 3 * ns + 6 * static_cast<std::size_t>(X.sphere);
+        for (std::size_t i = 0; i < n; ++i) {
+            const double* row = &m.B[i * nb + c];
+            m.dq[i] = (1 - s) * (row[0] * lambda[0] + row[1] * lambda[1] + row[2] * lambda[2]) +
+                      s * (row[3] * lambda[0] + row[4] * lambda[1] + row[5] * lambda[2]);
+        }
+    } else {
+        const std::size_t c = 3 * static_cast<std::size_t>(X.sphere);
+        for (std::size_t i = 0; i < n; ++i) {
+            const double* row = &m.B[i * nb + c];
+            m.dq[i] = row[0] * lambda[0] + row[1] * lambda[1] + row[2] * lambda[2];
+        }
     }
     std::vector<double>& target = position ? m.q : m.qd;
     for (std::size_t i = 0; i < n; ++i) target[i] += m.dq[i];
@@ -98,6 +145,16 @@ void Solver::model_impulse(const Body& X, const double* lambda, std::vector<Body
             double d = 0;
             for (std::size_t i = 0; i < n; ++i) d += row[i] * m.dq[i];
             out[k] += d;
+        }
+    }
+    for (std::size_t j = 0; j < nk; ++j) {
+        Body& b = B[m.first_capsule + j];
+        double* out[2] = {position ? b.p : b.v, position ? b.p2 : b.v2};
+        for (std::size_t e = 0; e < 6; ++e) {
+            const double* row = &m.sync.Jc[(6 * j + e) * n];
+            double d = 0;
+            for (std::size_t i = 0; i < n; ++i) d += row[i] * m.dq[i];
+            out[e / 3][e % 3] += d;
         }
     }
 }

@@ -33,13 +33,24 @@ Scene make_scene(const Registry& components, const std::vector<RigidBody>& bodie
             throw std::invalid_argument("make_scene: model '" + m.name + "' is not a complete LagrangianSystem");
         if (s.n_spheres > 0 && (!s.shape_positions || !s.sphere_jacobians || !s.sphere_radii))
             throw std::invalid_argument("make_scene: model '" + m.name + "' has spheres but no shape functions");
+        if (s.n_capsules > 0 && (!s.shape_positions || !s.capsule_jacobians || !s.capsule_radii))
+            throw std::invalid_argument("make_scene: model '" + m.name + "' has capsules but no shape functions");
         PlacedModel p;
         p.name = m.name;
         p.radii.resize(s.n_spheres);
         if (s.n_spheres > 0) s.sphere_radii(p.radii);
+        p.capsule_radii.resize(s.n_capsules);
+        if (s.n_capsules > 0) s.capsule_radii(p.capsule_radii);
         std::size_t offset = 0;
         for (std::size_t k = 0; k < s.n_shapes; ++k) {
-            if (s.shape_is_sphere[k]) {
+            if (s.shape_kinds[k] == ModelShape::capsule) {
+                const double r = p.capsule_radii[p.ends.size()];
+                if (!(r > 0) || !std::isfinite(r))
+                    throw std::invalid_argument("make_scene: capsule '" + s.shape_names[k] + "' of model '" + m.name +
+                                                "' has radius " + std::to_string(r) + " m; it must be positive");
+                p.ends.push_back(offset);
+            }
+            if (s.shape_kinds[k] == ModelShape::sphere) {
                 const std::size_t j = p.spheres.size();
                 if (!(p.radii[j] > 0) || !std::isfinite(p.radii[j]))
                     throw std::invalid_argument("make_scene: sphere '" + s.shape_names[k] + "' of model '" + m.name +
@@ -47,7 +58,7 @@ Scene make_scene(const Registry& components, const std::vector<RigidBody>& bodie
                 p.spheres.push_back(reg.add(m.name + "." + s.shape_names[k]));
                 p.centre.push_back(offset);
             }
-            offset += s.shape_is_sphere[k] ? 3 : 6;
+            offset += shape_values(s.shape_kinds[k]);
         }
         for (const std::string& c : s.coordinate_names) p.coordinates.push_back(reg.add(m.name + "." + c));
         p.system = std::make_shared<const LagrangianSystem>(std::move(m.system));
@@ -112,29 +123,32 @@ std::vector<double> model_qdot(const Scene& scene, std::size_t k) {
 
 void sphere_states(const PlacedModel& p, double t, SphereSync& s) {
     const LagrangianSystem& sys = *p.system;
-    const std::size_t n = sys.dof, ns = p.spheres.size();
-    std::size_t nx = 0;
-    for (std::size_t k = 0; k < sys.n_shapes; ++k) nx += sys.shape_is_sphere[k] ? 3 : 6;
+    const std::size_t n = sys.dof, ns = p.spheres.size(), nk = p.ends.size();
+    const std::size_t nx = sys.n_shape_values();
     s.X.resize(nx), s.Xp.resize(nx), s.Xm.resize(nx), s.J.resize(3 * ns * n), s.P.resize(3 * ns), s.V.resize(3 * ns);
+    s.Jc.resize(6 * nk * n), s.E.resize(6 * nk), s.EV.resize(6 * nk);
     const double h = 6e-6 * std::max(1.0, std::abs(t));
     sys.shape_positions(t, s.q, s.X);
     sys.shape_positions(t + h, s.q, s.Xp);
     sys.shape_positions(t - h, s.q, s.Xm);
-    sys.sphere_jacobians(t, s.q, s.J);
+    if (ns > 0) sys.sphere_jacobians(t, s.q, s.J);
+    if (nk > 0) sys.capsule_jacobians(t, s.q, s.Jc);
+    // X at offset x: the position, and the velocity J q' + ∂X/∂t from Jacobian row `row`
+    auto point = [&](std::size_t x, const double* row, double& P, double& V) {
+        double v = (s.Xp[x] - s.Xm[x]) / (2 * h);
+        for (std::size_t i = 0; i < n; ++i) v += row[i] * s.qd[i];
+        P = s.X[x];
+        V = v;
+    };
     for (std::size_t j = 0; j < ns; ++j)
-        for (std::size_t a = 0; a < 3; ++a) {
-            const std::size_t x = p.centre[j] + a;
-            const double* row = &s.J[(3 * j + a) * n];
-            double v = (s.Xp[x] - s.Xm[x]) / (2 * h);
-            for (std::size_t i = 0; i < n; ++i) v += row[i] * s.qd[i];
-            s.P[3 * j + a] = s.X[x];
-            s.V[3 * j + a] = v;
-        }
+        for (std::size_t a = 0; a < 3; ++a) point(p.centre[j] + a, &s.J[(3 * j + a) * n], s.P[3 * j + a], s.V[3 * j + a]);
+    for (std::size_t k = 0; k < nk; ++k)
+        for (std::size_t a = 0; a < 6; ++a) point(p.ends[k] + a, &s.Jc[(6 * k + a) * n], s.E[6 * k + a], s.EV[6 * k + a]);
 }
 
 void sync_model_spheres(const PlacedModel& p, FieldId qf, FieldId qdf, double t, World& w, SphereSync& s) {
     const std::size_t n = p.system->dof;
-    if (p.spheres.empty()) return;
+    if (p.spheres.empty()) return; // capsules have no proxies
     s.q.resize(n), s.qd.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
         s.q[i] = w.at(qf, p.coordinates[i]);

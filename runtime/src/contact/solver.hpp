@@ -17,6 +17,10 @@
 // 3×3 matrix A_s = J_s B_s instead of 1/m 𝟙: 1/m_a in K⁻¹(u) becomes uᵀA_s u, and an impulse
 // Λ on it changes its model's q' by B_s Λ, hence the velocity of every sphere s' of that
 // model by J_s' B_s Λ.
+// A model capsule is two such points, its ends, with no spin: its point at s ∈ [0, 1] along
+// the segment moves with J(s) = (1 − s) J₁ + s J₂, so B(s) = (1 − s) B₁ + s B₂ and
+// A(s) = (1 − s)² A₁₁ + 2 s (1 − s) sym(A₁₂) + s² A₂₂ with A_ij = J_i B_j. Its contacts are
+// sphere rows at that point (a radius-r sphere at the segment's point), s fixed for the step.
 // A row of a manifold (a box or capsule against anything: a "point" row) has general lever
 // arms r_a = x − p_a, r_b = x − p_b from the centres to the contact point x (the midpoint of
 // its two surface points):
@@ -43,24 +47,42 @@ struct Body {
     double im;    // 1/m (0 for a model sphere: see `model`)
     double ii[6]; // world inverse inertia: xx, yy, zz, xy, xz, yz
     double r;
-    int model = -1;  // a model sphere: its model (ModelScratch), else −1
-    int sphere = -1; // its index among that model's spheres
-    // Worlds with shape fields only:
+    int model = -1;  // a model sphere or capsule: its model (ModelScratch), else −1
+    int sphere = -1; // its index among that model's spheres (capsules, for a capsule)
+    // Worlds with shape fields only (and model capsules: shape):
     double q[4] = {1, 0, 0, 0}; // orientation (w, x, y, z)
     double h[3] = {0, 0, 0};    // RigidBody::half_extents
     Shape shape = Shape::sphere;
+    // A model capsule: p and v are its first end's, p2 and v2 its second's.
+    double p2[3] = {0, 0, 0}, v2[3] = {0, 0, 0};
 };
 
+/// Whether X is a model capsule (its rows are at a point s along it: Row::sa, sb).
+inline bool is_model_capsule(const Body& X) { return X.model >= 0 && X.shape == Shape::capsule; }
+/// The position (p2 = false: p, v) or velocity of X's point at s: a model capsule's
+/// (1 − s) x₁ + s x₂, else X's own.
+inline const double* at_fraction(const Body& X, double s, bool velocity, double* tmp) {
+    const double* x1 = velocity ? X.v : X.p;
+    if (!is_model_capsule(X)) return x1;
+    const double* x2 = velocity ? X.v2 : X.p2;
+    for (int k = 0; k < 3; ++k) tmp[k] = (1 - s) * x1[k] + s * x2[k];
+    return tmp;
+}
+
 /// A model taking part in the contacts: its q, q' during the solve and, at the state of the
-/// step, J (3·ns×dof), B = P M⁻¹ Jᵀ (dof×3·ns) and each sphere's A_s = J_s B_s.
+/// step, the Jacobians of its points — the spheres' centres, then both ends of each capsule —
+/// B = P M⁻¹ Jᵀ (dof × 3·points) and each sphere's A_s = J_s B_s (each capsule's A₁₁, A₂₂, sym A₁₂).
 struct ModelScratch {
     PlacedModel placed;
-    std::size_t first = 0; // scratch index of its first sphere
+    std::size_t first = 0;         // scratch index of its first sphere
+    std::size_t first_capsule = 0; // scratch index of its first capsule (after the static body)
     std::vector<double> q, qd, dq;
-    std::vector<double> A; // 6 per sphere: xx, yy, zz, xy, xz, yz
-    // Row-major: M (n × n, then its Cholesky factor), B (n × 3·ns), and for constraints
-    // G (nc × n), M⁻¹Gᵀ (n × nc), S = G M⁻¹ Gᵀ (nc × nc, then its factor), G B. J (3·ns × n)
-    // is sync.J, from sphere_states at the step's state (scatter overwrites it after the solve).
+    // 6 per sphere, then 18 per capsule (A₁₁, A₂₂, sym A₁₂): xx, yy, zz, xy, xz, yz each
+    std::vector<double> A;
+    // Row-major: M (n × n, then its Cholesky factor), B (n × 3·points), and for constraints
+    // G (nc × n), M⁻¹Gᵀ (n × nc), S = G M⁻¹ Gᵀ (nc × nc, then its factor), G B. The points'
+    // Jacobians are sync.J and sync.Jc, from sphere_states at the step's state (scatter
+    // overwrites them after the solve).
     std::vector<double> M, B, G, MinvGt, S, GB;
     SphereSync sync;
 };
@@ -76,6 +98,7 @@ struct Row {
     double jn, jt1, jt2;         // accumulated impulses
     int slot;                    // its warm-start slot in the cache, −1 if none: a contact with
                                  // a slot carried a load in the previous step (it is resting)
+    double sa = 0, sb = 0;       // a model capsule side: the contact's fraction s along it
     // Point rows (manifolds; file comment):
     bool point = false;
     std::uint32_t feature = 0;   // ManifoldPoint::feature: with b, the warm-start key
@@ -178,7 +201,10 @@ inline void tangent_velocity(const Row& c, const Body& A, const Body& B, double&
         vt2 = dot(dv, c.t2);
         return;
     }
-    const double dv[3] = {A.v[0] - B.v[0], A.v[1] - B.v[1], A.v[2] - B.v[2]};
+    double ta[3], tb[3];
+    const double* va = at_fraction(A, c.sa, true, ta);
+    const double* vb = at_fraction(B, c.sb, true, tb);
+    const double dv[3] = {va[0] - vb[0], va[1] - vb[1], va[2] - vb[2]};
     vt1 = dot(dv, c.t1) - c.ra * dot(A.w, c.t2) - c.rb * dot(B.w, c.t2);
     vt2 = dot(dv, c.t2) + c.ra * dot(A.w, c.t1) + c.rb * dot(B.w, c.t1);
 }
@@ -190,7 +216,10 @@ inline double normal_velocity(const Row& c, const Body& A, const Body& B) {
         point_velocity(c, A, B, dv);
         return dot(dv, c.n);
     }
-    return (A.v[0] - B.v[0]) * c.n[0] + (A.v[1] - B.v[1]) * c.n[1] + (A.v[2] - B.v[2]) * c.n[2];
+    double ta[3], tb[3];
+    const double* va = at_fraction(A, c.sa, true, ta);
+    const double* vb = at_fraction(B, c.sb, true, tb);
+    return (va[0] - vb[0]) * c.n[0] + (va[1] - vb[1]) * c.n[1] + (va[2] - vb[2]) * c.n[2];
 }
 
 /// The rotation of q by the small angle θ (rad, world frame): q ← normalise(q + ½ (0, θ) ⊗ q).
@@ -232,20 +261,23 @@ public:
             q_field_ = scene->q;
             qd_field_ = scene->qd;
             for (const PlacedModel& p : scene->models) {
-                if (p.spheres.empty()) continue;
+                if (p.spheres.empty() && p.ends.empty()) continue;
                 ModelScratch m;
                 m.placed = p;
                 m.first = ids_.size();
+                m.first_capsule = n_capsules_; // made absolute once ids_ is complete
                 const LagrangianSystem& s = *p.system;
-                const std::size_t n = s.dof, ns = p.spheres.size();
+                const std::size_t n = s.dof, ns = p.spheres.size(), nk = p.ends.size(), np = ns + 2 * nk;
                 m.q.resize(n), m.qd.resize(n), m.dq.resize(n);
-                m.A.resize(6 * ns);
+                m.A.resize(6 * ns + 18 * nk);
                 const std::size_t nc = s.n_constraints;
-                m.M.resize(n * n), m.B.resize(n * 3 * ns);
-                m.G.resize(nc * n), m.MinvGt.resize(n * nc), m.S.resize(nc * nc), m.GB.resize(nc * 3 * ns);
+                m.M.resize(n * n), m.B.resize(n * 3 * np);
+                m.G.resize(nc * n), m.MinvGt.resize(n * nc), m.S.resize(nc * nc), m.GB.resize(nc * 3 * np);
                 ids_.insert(ids_.end(), p.spheres.begin(), p.spheres.end());
+                n_capsules_ += nk;
                 models_.push_back(std::move(m));
             }
+            for (ModelScratch& m : models_) m.first_capsule += ids_.size() + 1;
         }
         for (int k = 0;; ++k) {
             const std::string s = std::to_string(k);
@@ -265,8 +297,8 @@ public:
         // a scene beyond that grows it once.
         const std::size_t n = ids_.size();
         const std::size_t contacts = n * (kReservedContactsPerBody + planes_.size());
-        bodies_.reserve(n + 1);
-        snapshot_.reserve(n + 1);
+        bodies_.reserve(n + 1 + n_capsules_);
+        snapshot_.reserve(n + 1 + n_capsules_);
         spheres_.reserve(n);
         margins_.reserve(n);
         contacts_.reserve(contacts);
@@ -297,6 +329,9 @@ private:
     void detect_shapes(const World& w);
     /// contacts_ (sphere contacts) → rows_, in scratch indices.
     void spheres_to_rows(const World& w);
+    /// The rows of the model capsules: against planes (at an end), spheres and other models'
+    /// capsules (at the closest points), within the margins.
+    void capsule_rows(double dt);
 
     /// Point rows from a manifold between scratch bodies a and b (b = the static body and
     /// `plane` its plane for a plane).
@@ -315,8 +350,9 @@ private:
     void gather(const World& w);
     void detect(const World& w, double dt);
     void correct_positions();
-    /// Position correction corr·n on one side of a row with a model sphere (rigid or model).
-    void position_impulse(const Body& X, std::size_t index, double corr, const double* n, bool jacobi);
+    /// Position correction corr·n on one side of a row with a model sphere (rigid or model); at
+    /// fraction s of a model capsule, applied at once (also under Jacobi: its points differ).
+    void position_impulse(const Body& X, std::size_t index, double corr, const double* n, bool jacobi, double s);
     void setup_rows(double dt);
     void warm_start(const World& w);
     void find_slots(const World& w);
@@ -346,9 +382,9 @@ private:
     // velocity-level kernels
     void apply_normal(Row& c, double lambda, std::vector<Body>& B);
     void apply_tangent(Row& c, double l1, double l2, std::vector<Body>& B);
-    /// Impulse p on one side of a row with a model sphere; for a rigid side, u (tangential
-    /// rows: the spin direction, file comment) times its lever r turns it.
-    void side_impulse(Body& X, const double* p, const double* u, double r, std::vector<Body>& B);
+    /// Impulse p on one side of a row with a model sphere (at fraction s of a model capsule); for
+    /// a rigid side, u (tangential rows: the spin direction, file comment) times its lever r turns it.
+    void side_impulse(Body& X, const double* p, const double* u, double r, double s, std::vector<Body>& B);
 
     std::vector<Index> ids_;
     std::vector<Plane> planes_;
@@ -383,21 +419,33 @@ private:
     std::vector<std::int64_t> schedule_;
     std::vector<Block> pos_blocks_; // correct_positions: K of each manifold, once a step
     std::size_t n_rigid_ = 0; // ids_: the rigid bodies, then the models' spheres
+    std::size_t n_capsules_ = 0; // the models' capsules: scratch bodies after the static body
 
     void gather_model(const World& w, ModelScratch& m, std::size_t index);
     void scatter_model(World& w, ModelScratch& m);
-    /// Λ on model sphere X: q' += B_s Λ and every sphere of the model follows (velocity level),
-    /// or q += B_s Λ and the centres follow (position level).
-    void model_impulse(const Body& X, const double* lambda, std::vector<Body>& B, bool position);
-    /// The translational inverse mass of X along u: 1/m, or uᵀ A_s u for a model sphere.
-    double linear_inverse_mass(const Body& X, const double* u) const {
-        return X.model < 0 ? X.im : quad(&models_[static_cast<std::size_t>(X.model)].A[6 * static_cast<std::size_t>(X.sphere)], u);
+    /// Λ on model sphere X (at fraction s of a model capsule): q' += B_s Λ and every sphere and
+    /// capsule end of the model follows (velocity level), or q += B_s Λ and the points follow
+    /// (position level).
+    void model_impulse(const Body& X, const double* lambda, std::vector<Body>& B, bool position, double s = 0);
+    /// The translational inverse mass of X along u: 1/m, uᵀ A_s u for a model sphere, uᵀ A(s) u
+    /// at fraction s of a model capsule (file comment).
+    double linear_inverse_mass(const Body& X, const double* u, double s = 0) const {
+        if (X.model < 0) return X.im;
+        const ModelScratch& m = models_[static_cast<std::size_t>(X.model)];
+        const auto j = static_cast<std::size_t>(X.sphere);
+        if (X.shape != Shape::capsule) return quad(&m.A[6 * j], u);
+        const double* a = &m.A[6 * m.placed.spheres.size() + 18 * j];
+        return (1 - s) * (1 - s) * quad(a, u) + s * s * quad(a + 6, u) + 2 * s * (1 - s) * quad(a + 12, u);
     }
-    /// The size of X's inverse mass (1/m, or tr A_s): what "singular" is measured against.
+    /// The size of X's inverse mass (1/m, tr A_s, or tr A₁₁ + tr A₂₂): what "singular" is
+    /// measured against.
     double inverse_mass_scale(const Body& X) const {
         if (X.model < 0) return X.im;
-        const double* a = &models_[static_cast<std::size_t>(X.model)].A[6 * static_cast<std::size_t>(X.sphere)];
-        return a[0] + a[1] + a[2];
+        const ModelScratch& m = models_[static_cast<std::size_t>(X.model)];
+        const auto j = static_cast<std::size_t>(X.sphere);
+        if (X.shape != Shape::capsule) return m.A[6 * j] + m.A[6 * j + 1] + m.A[6 * j + 2];
+        const double* a = &m.A[6 * m.placed.spheres.size() + 18 * j];
+        return a[0] + a[1] + a[2] + a[6] + a[7] + a[8];
     }
     /// Whether a row between a and b has a model sphere on either side.
     bool has_model(const Row& c) const { return bodies_[c.a].model >= 0 || bodies_[c.b].model >= 0; }

@@ -203,9 +203,7 @@ public:
             out_ = output.empty() ? stdout : reopen(output, out_at, program);
             if (!shapes.empty()) shapes_file_ = reopen(shapes, shapes_at, program);
             if (!out_ || (!shapes.empty() && !shapes_file_)) return false;
-            if (!shapes.empty())
-                for (std::size_t k = 0; k < sys.n_shapes; ++k)
-                    shape_points_.resize(shape_points_.size() + (sys.shape_is_sphere[k] ? 3 : 6));
+            if (!shapes.empty()) shape_points_.resize(sys.n_shape_values());
             return true;
         }
         out_ = output.empty() ? stdout : std::fopen(output.c_str(), "w");
@@ -227,10 +225,10 @@ public:
             std::fprintf(shapes_file_, "t");
             for (std::size_t k = 0; k < sys.n_shapes; ++k) {
                 const char* n = sys.shape_names[k].c_str();
-                if (sys.shape_is_sphere[k]) std::fprintf(shapes_file_, ",%s_x,%s_y,%s_z", n, n, n);
+                if (sys.shape_kinds[k] == ModelShape::sphere) std::fprintf(shapes_file_, ",%s_x,%s_y,%s_z", n, n, n);
                 else std::fprintf(shapes_file_, ",%s_x1,%s_y1,%s_z1,%s_x2,%s_y2,%s_z2", n, n, n, n, n, n);
-                shape_points_.resize(shape_points_.size() + (sys.shape_is_sphere[k] ? 3 : 6));
             }
+            shape_points_.resize(sys.n_shape_values());
             std::fprintf(shapes_file_, "\n");
         }
         e0_ = sys.energy(0, w.field(kGQ), w.field(kGV));

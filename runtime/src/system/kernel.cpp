@@ -189,12 +189,15 @@ LagrangianSystem make_system(const std::shared_ptr<const ModelKernel>& kernel, G
     s.n_shapes = t.n_shapes;
     for (std::size_t i = 0; i < t.n_shapes; ++i) {
         s.shape_names.emplace_back(t.shape_names[i]);
-        s.shape_is_sphere.push_back(t.shape_is_sphere[i]);
+        s.shape_kinds.push_back(static_cast<ModelShape>(t.shape_kinds[i]));
     }
     s.n_spheres = t.n_spheres;
+    s.n_capsules = t.n_capsules;
     s.shape_positions = positions(t.shape_positions);
     s.sphere_jacobians = positions(t.sphere_jacobians);
     s.sphere_radii = [kernel, k, get, f = t.sphere_radii](std::span<double> r) { k->check(f(get(), r.data())); };
+    s.capsule_jacobians = positions(t.capsule_jacobians);
+    s.capsule_radii = [kernel, k, get, f = t.capsule_radii](std::span<double> r) { k->check(f(get(), r.data())); };
     return s;
 }
 

@@ -174,22 +174,24 @@ struct Recorder::Impl {
         for (const Reader& r : readers) r(w, sink);
         if (times.size() * bytes_per_frame() > options.max_bytes && times.size() > 2) thin();
     }
-    /// The shapes of one model as bodies (spheres, segments as rods) and the reader of their
-    /// points from the model's q; `q_of(w, q)` fills q from the world.
+    /// The shapes of one model as bodies (spheres; segments as thin rods, capsules as rods of
+    /// their radius) and the reader of their points from the model's q; `q_of(w, q)` fills q
+    /// from the world.
     template <class QOf>
     Reader model_shapes(std::shared_ptr<const LagrangianSystem> sys, const std::string& group, QOf q_of) {
-        std::vector<double> radii(sys->n_spheres);
-        if (sys->n_spheres > 0) sys->sphere_radii(radii);
-        std::size_t sphere = 0, points = 0;
+        std::vector<double> spheres(sys->n_spheres), capsules(sys->n_capsules);
+        if (sys->n_spheres > 0) sys->sphere_radii(spheres);
+        if (sys->n_capsules > 0) sys->capsule_radii(capsules);
+        std::size_t sphere = 0, capsule = 0;
         for (std::size_t k = 0; k < sys->n_shapes; ++k) {
-            const bool is_sphere = sys->shape_is_sphere[k] != 0;
+            const ModelShape kind = sys->shape_kinds[k];
             const std::string name = group.empty() ? sys->shape_names[k] : group + "." + sys->shape_names[k];
-            add_body({name, is_sphere ? ViewBody::Kind::sphere : ViewBody::Kind::rod, is_sphere ? radii[sphere++] : 0.0,
-                           false, group.empty() ? "model" : group});
-            points += is_sphere ? 3 : 6;
+            const double r = kind == ModelShape::sphere ? spheres[sphere++] : kind == ModelShape::capsule ? capsules[capsule++] : 0.0;
+            add_body({name, kind == ModelShape::sphere ? ViewBody::Kind::sphere : ViewBody::Kind::rod, r, false,
+                      group.empty() ? "model" : group});
         }
         const std::size_t dof = sys->dof;
-        return [sys = std::move(sys), q_of, q = std::vector<double>(dof), X = std::vector<double>(points)](
+        return [sys, q_of, q = std::vector<double>(dof), X = std::vector<double>(sys->n_shape_values())](
                    const World& w, FrameSink& s) mutable {
             q_of(w, q);
             sys->shape_positions(w.time, q, X);

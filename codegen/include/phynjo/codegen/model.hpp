@@ -68,14 +68,17 @@ struct Event {
     SourceSpan where; ///< the event's name
 };
 
-/// `shape NAME: sphere R at (X, Y, Z)` or `shape NAME: segment (…) to (…)`
-/// (docs/language.md, *Shapes*): geometry attached to the model's kinematics.
+/// `shape NAME: sphere R at (X, Y, Z)`, `shape NAME: segment (…) to (…)` or `shape NAME:
+/// capsule R from (…) to (…)` (docs/language.md, *Shapes*): geometry attached to the model's
+/// kinematics.
 struct Shape {
-    enum class Kind { Sphere, Segment };
+    enum class Kind { Sphere, Segment, Capsule };
     std::string name;
     Kind kind = Kind::Sphere;
-    cas::Expr radius;                   ///< a sphere's radius (parameters and numbers), m
+    cas::Expr radius;                   ///< a sphere's or capsule's radius (parameters and numbers), m
     std::vector<cas::Expr> points;      ///< X, Y, Z of the centre, or of both ends; every `let` substituted
+    /// 3 for a sphere's centre, 6 for the two ends of a segment or capsule.
+    [[nodiscard]] std::size_t point_values() const noexcept { return kind == Kind::Sphere ? 3 : 6; }
     SourceSpan where;                   ///< the shape's name
 };
 

@@ -22,12 +22,17 @@ struct OptimizedEquations {
     std::vector<cas::Expr> guards;
     /// Per event, its resets' right sides (one pass per event).
     std::vector<std::vector<cas::Expr>> reset_values;
-    /// The shapes' points, file order: a sphere's centre (3), a segment's ends (6) (one pass).
+    /// The shapes' points, file order: a sphere's centre (3), a segment's or capsule's ends (6)
+    /// (one pass).
     std::vector<cas::Expr> shape_points;
     /// Per sphere, ∂(X, Y, Z)/∂q row-major 3 × dof (one pass over all spheres).
     std::vector<cas::Expr> sphere_jacobians;
     /// The spheres' radii, as written.
     std::vector<cas::Expr> sphere_radii;
+    /// Per capsule, ∂(X1, Y1, Z1, X2, Y2, Z2)/∂q row-major 6 × dof (one pass over all capsules).
+    std::vector<cas::Expr> capsule_jacobians;
+    /// The capsules' radii, as written.
+    std::vector<cas::Expr> capsule_radii;
     /// The initial values: the coordinates', then the velocities', as written.
     std::vector<cas::Expr> initial_values;
 };

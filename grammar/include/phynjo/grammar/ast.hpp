@@ -172,7 +172,12 @@ struct Sphere : x3::position_tagged {
 struct Segment : x3::position_tagged {
     Point from, to;
 };
-struct Geometry : x3::variant<Sphere, Segment> {
+/// `capsule R from (X1, Y1, Z1) to (X2, Y2, Z2)`: the segment thickened by R.
+struct Capsule : x3::position_tagged {
+    Expression radius;
+    Point from, to;
+};
+struct Geometry : x3::variant<Sphere, Segment, Capsule> {
     using base_type::base_type;
     using base_type::operator=;
 };

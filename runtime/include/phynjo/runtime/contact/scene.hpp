@@ -42,7 +42,7 @@ namespace phynjo::runtime {
 /// `pendulum::system(P)`), for make_scene.
 struct ModelInstance {
     std::string name;        ///< its components are "<name>.<sphere>" and "<name>.<coordinate>"
-    LagrangianSystem system; ///< must have shapes with at least one sphere to take part in contacts
+    LagrangianSystem system; ///< takes part in contacts through its spheres and capsules
 };
 
 /// A model instance as placed in a scene's world.
@@ -53,6 +53,9 @@ struct PlacedModel {
     std::vector<Index> spheres;         ///< the sphere proxies, sphere order
     std::vector<std::size_t> centre;    ///< offset of each sphere's centre in shape_positions' output
     std::vector<double> radii;          ///< m
+    /// Its capsules (no proxy in the world: a contact finds the point on the segment each step).
+    std::vector<std::size_t> ends;      ///< offset of each capsule's first end in shape_positions' output
+    std::vector<double> capsule_radii;  ///< m
 };
 
 /// A world with rigid bodies and model instances (file comment).
@@ -82,9 +85,12 @@ std::vector<double> model_qdot(const Scene& scene, std::size_t k);
 struct SphereSync {
     std::vector<double> q, qd, X, Xp, Xm, J;
     std::vector<double> P, V; ///< the spheres' centres and velocities, 3 per sphere
+    std::vector<double> Jc;   ///< capsule_jacobians: 6 rows (both ends) per capsule
+    std::vector<double> E, EV; ///< the capsules' ends and their velocities, 6 per capsule
 };
 /// From s.q, s.qd at time t: s.J (sphere_jacobians), s.P = the sphere centres X_s(t, q),
-/// s.V = J_s q' + ∂X_s/∂t (a central difference, h ≈ ε^(1/3): exactly 0 for a model without t).
+/// s.V = J_s q' + ∂X_s/∂t (a central difference, h ≈ ε^(1/3): exactly 0 for a model without t),
+/// and alike for the capsules' ends: s.Jc, s.E, s.EV.
 void sphere_states(const PlacedModel& model, double t, SphereSync& s);
 /// Writes the proxies of `model` (positions X_s(t, q), velocities J_s q' + ∂X_s/∂t) from its
 /// coordinates at time t.

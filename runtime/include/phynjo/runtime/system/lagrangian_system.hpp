@@ -23,6 +23,15 @@
 
 namespace phynjo::runtime {
 
+/// A model's shape (docs/language.md, *Shapes*); the codes are the kernel table's.
+enum class ModelShape : unsigned char {
+    segment = 0, ///< two ends (6 entries of shape_positions), drawn only
+    sphere = 1,  ///< a centre (3 entries), collides; sphere_jacobians, sphere_radii
+    capsule = 2, ///< two ends (6 entries), collides; capsule_jacobians, capsule_radii
+};
+/// The entries of shape_positions a shape of this kind fills: 3 for a sphere, 6 otherwise.
+[[nodiscard]] constexpr std::size_t shape_values(ModelShape kind) noexcept { return kind == ModelShape::sphere ? 3 : 6; }
+
 /// A generated model seen through std::function: what the integrators below need.
 struct LagrangianSystem {
     std::size_t dof = 0;
@@ -117,15 +126,26 @@ struct LagrangianSystem {
     // Shapes (docs/language.md, *Shapes*), file order; none when n_shapes = 0.
     std::size_t n_shapes = 0;
     std::vector<std::string> shape_names;
-    /// Per shape: 1 for a sphere (3 entries of shape_positions), 0 for a segment (6 entries).
-    std::vector<unsigned char> shape_is_sphere;
-    std::size_t n_spheres = 0;
-    /// Centres of spheres and ends of segments, file order (3 or 6 entries each), m.
+    /// Per shape, its kind.
+    std::vector<ModelShape> shape_kinds;
+    std::size_t n_spheres = 0, n_capsules = 0;
+    /// Centres of spheres and ends of segments and capsules, file order (3 or 6 entries each), m.
     std::function<void(double t, std::span<const double> q, std::span<double> X)> shape_positions;
     /// Each sphere's ∂(X, Y, Z)/∂q: 3×dof, row-major, spheres in file order.
     std::function<void(double t, std::span<const double> q, std::span<double> J)> sphere_jacobians;
     /// The spheres' radii, m (they follow the parameters).
     std::function<void(std::span<double> r)> sphere_radii;
+    /// Each capsule's ∂(X₁, Y₁, Z₁, X₂, Y₂, Z₂)/∂q of its two ends: 6×dof, row-major, capsules in
+    /// file order.
+    std::function<void(double t, std::span<const double> q, std::span<double> J)> capsule_jacobians;
+    /// The capsules' radii, m.
+    std::function<void(std::span<double> r)> capsule_radii;
+    /// The number of entries of shape_positions: Σ shape_values(kind).
+    [[nodiscard]] std::size_t n_shape_values() const noexcept {
+        std::size_t n = 0;
+        for (ModelShape k : shape_kinds) n += shape_values(k);
+        return n;
+    }
 
     // Exact Jacobians (generated code provides them; may be empty for a hand-made system).
     /// ∂y'/∂y of y = (q, q'), y' = (q', q''): (2·dof)×(2·dof), row-major.

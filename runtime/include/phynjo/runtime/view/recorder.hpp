@@ -80,7 +80,7 @@ public:
     /// Static planes, drawn as squares over the scene's extent.
     void add_planes(std::span<const Plane> planes);
     /// A generated model stepped in a world of make_lagrangian_world: its shapes (spheres of
-    /// their radii, segments as rods); with no shapes, one bead per coordinate on a rail (x =
+    /// their radii, segments as rods, capsules as rods of their radius); with no shapes, one bead per coordinate on a rail (x =
     /// the coordinate's value, one rail per coordinate). Series: the coordinates, E − E(0) and,
     /// for a constrained model, the constraint residuals φ.
     void add_model(const LagrangianSystem& system);
