@@ -84,21 +84,30 @@ void Solver::anchors(const Row& c, double* xa, double* xb) const {
         return;
     }
     const Body& B = bodies_[c.b];
+    if (B.model >= 0) { // a model side: its point at sb, offset to the surface
+        double t[3];
+        const double* x = at_fraction(B, c.sb, false, t);
+        for (int k = 0; k < 3; ++k) xb[k] = x[k] + c.lb[k];
+        return;
+    }
     const Eigen::Vector3d b = Quaternion{B.q[0], B.q[1], B.q[2], B.q[3]}.rotate(Eigen::Vector3d(c.lb[0], c.lb[1], c.lb[2]));
     for (int k = 0; k < 3; ++k) xb[k] = B.p[k] + b(k);
 }
 
-void Solver::apply_point(const Row& c, const double* p, std::vector<Body>& B) const {
+void Solver::apply_point(const Row& c, const double* p, std::vector<Body>& B) {
     Body& A = B[c.a];
     Body& Bb = B[c.b];
     double u[3], i[3];
-    for (int k = 0; k < 3; ++k) {
-        A.v[k] += A.im * p[k];
-        Bb.v[k] -= Bb.im * p[k];
-    }
+    for (int k = 0; k < 3; ++k) A.v[k] += A.im * p[k];
     cross(c.xa, p, u);
     mul_sym(A.ii, u, i);
     for (int k = 0; k < 3; ++k) A.w[k] += i[k];
+    if (Bb.model >= 0) { // −P on the model at its point sb
+        const double q[3] = {-p[0], -p[1], -p[2]};
+        model_impulse(Bb, q, B, false, c.sb);
+        return;
+    }
+    for (int k = 0; k < 3; ++k) Bb.v[k] -= Bb.im * p[k];
     cross(c.xb, p, u);
     mul_sym(Bb.ii, u, i);
     for (int k = 0; k < 3; ++k) Bb.w[k] -= i[k];
@@ -175,6 +184,25 @@ void Solver::correct_positions() {
                 }
                 cross(ra, n, ua);
                 cross(rb, n, ub);
+                if (Bb.model >= 0) { // a model side b: uᵀ A(s) u, and its correction through B(s)
+                    const double k_inv = A.im + quad(A.ii, ua) + linear_inverse_mass(Bb, n, c.sb);
+                    if (!(k_inv > kSingularInverseMass * (A.im + inverse_mass_scale(Bb)))) continue;
+                    const double corr = beta * depth / k_inv;
+                    double ta[3];
+                    mul_sym(A.ii, ua, ta);
+                    for (int k = 0; k < 3; ++k) ta[k] *= corr;
+                    if (jacobi) {
+                        for (int k = 0; k < 3; ++k) {
+                            delta_[3 * c.a + k] += corr * A.im * n[k];
+                            turn_[3 * c.a + k] += ta[k];
+                        }
+                    } else {
+                        for (int k = 0; k < 3; ++k) A.p[k] += corr * A.im * n[k];
+                        rotate_by(A.q, ta);
+                    }
+                    position_impulse(Bb, c.b, -corr, n, jacobi, c.sb);
+                    continue;
+                }
                 // (A plane's static body has no inverse mass or inertia: its terms vanish.)
                 const double k_inv = A.im + Bb.im + quad(A.ii, ua) + quad(Bb.ii, ub);
                 const double corr = beta * depth / k_inv;
@@ -280,14 +308,27 @@ void Solver::setup_rows(double dt) {
             for (int k = 0; k < 3; ++k) {
                 const double mid = 0.5 * (xa[k] + xb[k]);
                 c.xa[k] = mid - A.p[k];
-                c.xb[k] = c.plane >= 0 ? 0.0 : mid - B.p[k];
+                c.xb[k] = c.plane >= 0 || B.model >= 0 ? 0.0 : mid - B.p[k]; // a model side does not spin
             }
             c.ra = c.rb = 0;
             c.sep = (xa[0] - xb[0]) * c.n[0] + (xa[1] - xb[1]) * c.n[1] + (xa[2] - xb[2]) * c.n[2];
             tangent_basis(c.n, c.t1, c.t2);
-            c.mn = 1 / point_inverse_mass(A, B, c.xa, c.xb, c.n, sa, sb);
-            c.mt1 = 1 / point_inverse_mass(A, B, c.xa, c.xb, c.t1, sa, sb);
-            c.mt2 = 1 / point_inverse_mass(A, B, c.xa, c.xb, c.t2, sa, sb);
+            if (B.model >= 0) { // a model side b (file comment of solver.hpp): uᵀ A(s) u for it
+                const double floor = kSingularInverseMass * (sa * A.im + sb * inverse_mass_scale(B));
+                auto inverse_mass = [&](const double* u) {
+                    double ua[3];
+                    cross(c.xa, u, ua);
+                    const double k = sa * (A.im + quad(A.ii, ua)) + sb * linear_inverse_mass(B, u, c.sb);
+                    return k > floor ? 1 / k : 0.0;
+                };
+                c.mn = inverse_mass(c.n);
+                c.mt1 = inverse_mass(c.t1);
+                c.mt2 = inverse_mass(c.t2);
+            } else {
+                c.mn = 1 / point_inverse_mass(A, B, c.xa, c.xb, c.n, sa, sb);
+                c.mt1 = 1 / point_inverse_mass(A, B, c.xa, c.xb, c.t1, sa, sb);
+                c.mt2 = 1 / point_inverse_mass(A, B, c.xa, c.xb, c.t2, sa, sb);
+            }
             c.bias = -std::max(c.sep, 0.0) / dt;
             double vt1, vt2;
             tangent_velocity(c, A, B, vt1, vt2);

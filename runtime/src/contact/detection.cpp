@@ -9,6 +9,33 @@
 
 namespace phynjo::runtime::contact_detail {
 
+namespace {
+OBB obb_of(const Body& b) {
+    return OBB{Eigen::Vector3d(b.p[0], b.p[1], b.p[2]), Eigen::Vector3d(b.h[0], b.h[1], b.h[2]),
+               Quaternion{b.q[0], b.q[1], b.q[2], b.q[3]}};
+}
+Capsule capsule_of(const Body& b) {
+    const Eigen::Vector3d c(b.p[0], b.p[1], b.p[2]);
+    const Eigen::Vector3d e = Quaternion{b.q[0], b.q[1], b.q[2], b.q[3]}.rotate(Eigen::Vector3d(0, b.h[1], 0));
+    return Capsule{c - e, c + e, b.r};
+}
+SphereBB sphere_of(const Body& b) { return SphereBB{Eigen::Vector3d(b.p[0], b.p[1], b.p[2]), b.r}; }
+/// A model capsule's segment (its ends p, p2) and radius.
+Capsule model_capsule(const Body& b) {
+    return Capsule{Eigen::Vector3d(b.p[0], b.p[1], b.p[2]), Eigen::Vector3d(b.p2[0], b.p2[1], b.p2[2]), b.r};
+}
+/// The fraction along [p0, p1] of the point of the axis nearest x.
+double fraction_along(const Capsule& c, const Eigen::Vector3d& x) {
+    const Eigen::Vector3d d = c.p1 - c.p0;
+    const double l2 = d.squaredNorm();
+    return l2 > 0 ? std::clamp((x - c.p0).dot(d) / l2, 0.0, 1.0) : 0.0;
+}
+/// Whether two boxes overlap.
+bool overlap(const AABB& a, const AABB& b) {
+    return (a.lo.array() <= b.hi.array()).all() && (b.lo.array() <= a.hi.array()).all();
+}
+} // namespace
+
 void Solver::detect(const World& w, double dt) {
     contacts_.clear();
     // Speculative margins (ContactOptions::margin): the given one for every pair, or per body
@@ -24,15 +51,10 @@ void Solver::detect(const World& w, double dt) {
         margins_[k] = uniform ? 0.5 * options_.margin
                               : std::min(r, std::max(2 * std::sqrt(dot(b.v, b.v)) * dt, std::max(options_.slop, 0.02 * r)));
     }
-    if (shape_field_ >= 0 && models_.empty()) {
-        detect_shapes(w);
+    if (shape_field_ >= 0) {
+        detect_shapes(w, dt);
         return;
     }
-    if (shape_field_ >= 0) // a scene with shape fields: its rigid bodies must be spheres (as detect_shapes says)
-        for (std::size_t k = 0; k < n_rigid_; ++k)
-            if (bodies_[k].shape != Shape::sphere)
-                throw Error("contact: '" + layout_->components.label(ids_[k]) +
-                            "' is a box or capsule in a scene with models; their spheres meet spheres only");
     if (sphere_pairs_) {
         spheres_.resize(ids_.size());
         for (std::size_t k = 0; k < ids_.size(); ++k) {
@@ -70,15 +92,6 @@ void Solver::detect(const World& w, double dt) {
 void Solver::capsule_rows(double dt) {
     const bool uniform = options_.margin >= 0;
     const auto stat = static_cast<std::uint32_t>(ids_.size());
-    auto capsule_of = [](const Body& b) {
-        return Capsule{Eigen::Vector3d(b.p[0], b.p[1], b.p[2]), Eigen::Vector3d(b.p2[0], b.p2[1], b.p2[2]), b.r};
-    };
-    // The fraction along [p0, p1] of the point of the axis nearest x.
-    auto fraction = [](const Capsule& c, const Eigen::Vector3d& x) {
-        const Eigen::Vector3d d = c.p1 - c.p0;
-        const double l2 = d.squaredNorm();
-        return l2 > 0 ? std::clamp((x - c.p0).dot(d) / l2, 0.0, 1.0) : 0.0;
-    };
     // The margin of a capsule as detect's of a sphere, at the faster end.
     auto margin_of = [&](const Body& b) {
         if (uniform) return 0.5 * options_.margin;
@@ -98,30 +111,44 @@ void Solver::capsule_rows(double dt) {
             r.point = false;
             r.block_size = 1;
             r.block = -1;
-            r.sa = fraction(ca, p.on_a + ca.radius * m.normal); // the axis points behind the surface points
-            r.sb = cb != nullptr ? fraction(*cb, p.on_b - cb->radius * m.normal) : 0.0;
+            r.sa = fraction_along(ca, p.on_a + ca.radius * m.normal); // the axis points behind the surface points
+            r.sb = cb != nullptr ? fraction_along(*cb, p.on_b - cb->radius * m.normal) : 0.0;
         }
     };
     const std::uint32_t first = stat + 1;
     for (std::uint32_t k = first; k < first + n_capsules_; ++k) {
         const Body& A = bodies_[k];
-        const Capsule ca = capsule_of(A);
+        const Capsule ca = model_capsule(A);
         const double ma = margin_of(A);
+        AABB box{ca.p0.cwiseMin(ca.p1) - Eigen::Vector3d::Constant(ca.radius + ma),
+                 ca.p0.cwiseMax(ca.p1) + Eigen::Vector3d::Constant(ca.radius + ma)};
         for (std::size_t i = 0; i < planes_.size(); ++i) {
             capsule_plane(ca, planes_[i], ma, m);
             add(k, stat, static_cast<int>(i), ca, nullptr);
         }
         for (std::uint32_t j = 0; j < stat; ++j) { // spheres: rigid, and other models'
             const Body& B = bodies_[j];
-            if (!(B.r > 0) || B.model == A.model) continue;
+            if (B.model == A.model) continue;
             const double mb = uniform ? 0.5 * options_.margin : margins_[j];
+            if (B.shape != Shape::sphere) { // a rigid box or capsule (worlds with shape fields): point rows
+                if (!overlap(box, bounds_[j])) continue;
+                if (B.shape == Shape::box) {
+                    capsule_box(ca, obb_of(B), ma + mb, m);
+                    if (m.count > 0) m.flip(); // the rigid body is side a
+                } else {
+                    capsule_capsule(capsule_of(B), ca, ma + mb, m);
+                }
+                add_model_manifold(m, j, k, &ca);
+                continue;
+            }
+            if (!(B.r > 0)) continue;
             capsule_sphere(ca, SphereBB{Eigen::Vector3d(B.p[0], B.p[1], B.p[2]), B.r}, ma + mb, m);
             add(k, j, -1, ca, nullptr);
         }
         for (std::uint32_t j = first; j < k; ++j) { // other models' capsules
             const Body& B = bodies_[j];
             if (B.model == A.model) continue;
-            const Capsule cb = capsule_of(B);
+            const Capsule cb = model_capsule(B);
             capsule_capsule(ca, cb, ma + margin_of(B), m);
             add(k, j, -1, ca, &cb);
         }
@@ -154,12 +181,7 @@ void Solver::spheres_to_rows(const World& w) {
     rows_.resize(kept);
 }
 
-void Solver::detect_shapes(const World& w) {
-    if (n_rigid_ < ids_.size())
-        for (std::size_t k = 0; k < n_rigid_; ++k)
-            if (bodies_[k].shape != Shape::sphere)
-                throw Error("contact: '" + layout_->components.label(ids_[k]) +
-                            "' is a box or capsule in a scene with models; their spheres meet spheres only");
+void Solver::detect_shapes(const World& w, double dt) {
     const bool uniform = options_.margin >= 0;
     auto margin_of = [&](std::size_t k) { return uniform ? 0.5 * options_.margin : margins_[k]; };
     // Bounds: a sphere's box, a box's tight AABB, a capsule's segment's box grown by its
@@ -226,22 +248,81 @@ void Solver::detect_shapes(const World& w) {
             add_manifold(m, static_cast<std::uint32_t>(k), stat, static_cast<int>(i));
         }
     }
+    if (!models_.empty()) model_sphere_contacts();
     spheres_to_rows(w);
+    if (n_capsules_ > 0) capsule_rows(dt);
     rows_.insert(rows_.end(), point_rows_.begin(), point_rows_.end());
 }
 
-namespace {
-OBB obb_of(const Body& b) {
-    return OBB{Eigen::Vector3d(b.p[0], b.p[1], b.p[2]), Eigen::Vector3d(b.h[0], b.h[1], b.h[2]),
-               Quaternion{b.q[0], b.q[1], b.q[2], b.q[3]}};
+void Solver::model_sphere_contacts() {
+    const bool uniform = options_.margin >= 0;
+    auto margin_of = [&](std::size_t k) { return uniform ? 0.5 * options_.margin : margins_[k]; };
+    auto contact = [&](std::size_t a, std::size_t b, int plane) {
+        Contact c;
+        c.a = ids_[a];
+        c.b = ids_[b];
+        c.plane = plane;
+        contacts_.push_back(c);
+    };
+    Manifold m;
+    for (std::size_t j = n_rigid_; j < ids_.size(); ++j) {
+        const Body& X = bodies_[j];
+        const double mx = margin_of(j);
+        const Eigen::Vector3d c(X.p[0], X.p[1], X.p[2]);
+        const AABB box{c - Eigen::Vector3d::Constant(X.r + mx), c + Eigen::Vector3d::Constant(X.r + mx)};
+        for (std::size_t k = 0; k < n_rigid_; ++k) {
+            const Body& A = bodies_[k];
+            if (!overlap(box, bounds_[k])) continue;
+            if (A.shape == Shape::sphere) {
+                if (!(A.r > 0)) continue;
+                const double d[3] = {A.p[0] - X.p[0], A.p[1] - X.p[1], A.p[2] - X.p[2]};
+                const double reach = A.r + X.r + margin_of(k) + mx;
+                if (dot(d, d) < reach * reach) contact(k, j, -1);
+                continue;
+            }
+            if (!collide(A, X, margin_of(k) + mx, m)) continue; // normal from the model sphere towards A
+            add_model_manifold(m, static_cast<std::uint32_t>(k), static_cast<std::uint32_t>(j), nullptr);
+        }
+        for (std::size_t k = j + 1; k < ids_.size(); ++k) { // other models' spheres
+            const Body& B = bodies_[k];
+            if (B.model == X.model) continue;
+            const double d[3] = {B.p[0] - X.p[0], B.p[1] - X.p[1], B.p[2] - X.p[2]};
+            const double reach = B.r + X.r + margin_of(k) + mx;
+            if (dot(d, d) < reach * reach) contact(j, k, -1);
+        }
+        for (std::size_t i = 0; i < planes_.size(); ++i) {
+            const Plane& pl = planes_[i];
+            const double s = pl.normal.x() * X.p[0] + pl.normal.y() * X.p[1] + pl.normal.z() * X.p[2] - pl.offset - X.r;
+            if (s < mx) contact(j, j, static_cast<int>(i));
+        }
+    }
 }
-Capsule capsule_of(const Body& b) {
-    const Eigen::Vector3d c(b.p[0], b.p[1], b.p[2]);
-    const Eigen::Vector3d e = Quaternion{b.q[0], b.q[1], b.q[2], b.q[3]}.rotate(Eigen::Vector3d(0, b.h[1], 0));
-    return Capsule{c - e, c + e, b.r};
+
+void Solver::add_model_manifold(const Manifold& m, std::uint32_t a, std::uint32_t b, const Capsule* axis) {
+    const Body& A = bodies_[a];
+    const Body& B = bodies_[b];
+    const Quaternion qa{A.q[0], A.q[1], A.q[2], A.q[3]};
+    for (int k = 0; k < m.count; ++k) {
+        const ManifoldPoint& p = m.points[static_cast<std::size_t>(k)];
+        Row r{};
+        r.a = a;
+        r.b = b;
+        r.plane = -1;
+        r.point = true;
+        r.feature = p.feature;
+        r.n[0] = m.normal.x(), r.n[1] = m.normal.y(), r.n[2] = m.normal.z();
+        const Eigen::Vector3d la = qa.rotate_inverse(p.on_a - Eigen::Vector3d(A.p[0], A.p[1], A.p[2]));
+        r.sb = axis != nullptr ? fraction_along(*axis, p.on_b - axis->radius * m.normal) : 0.0;
+        double t[3];
+        const double* x = at_fraction(B, r.sb, false, t); // the model's point behind on_b
+        for (int i = 0; i < 3; ++i) r.la[i] = la(i), r.lb[i] = p.on_b(i) - x[i];
+        r.sep = p.separation;
+        r.slot = -1;
+        r.block_size = 1; // each point its own row: the model side has no block
+        point_rows_.push_back(r);
+    }
 }
-SphereBB sphere_of(const Body& b) { return SphereBB{Eigen::Vector3d(b.p[0], b.p[1], b.p[2]), b.r}; }
-} // namespace
+
 
 bool collide(const Body& A, const Body& B, double margin, Manifold& m) {
     m.count = 0;

@@ -64,7 +64,9 @@ Scene make_scene(const Registry& components, const std::vector<RigidBody>& bodie
         p.system = std::make_shared<const LagrangianSystem>(std::move(m.system));
         placed.push_back(std::move(p));
     }
-    std::vector<std::string> fields(kRigidFields.begin(), kRigidFields.end());
+    // The rigid world's fields (with the shape fields when a body is a box or capsule), then the extra ones.
+    std::vector<std::string> fields = rigid.layout().fields;
+    const auto n_rigid_fields = static_cast<FieldId>(fields.size());
     fields.insert(fields.end(), extra_fields.begin(), extra_fields.end());
     for (const char* f : {"q", "qd"})
         if (std::find(fields.begin(), fields.end(), f) != fields.end())
@@ -75,7 +77,7 @@ Scene make_scene(const Registry& components, const std::vector<RigidBody>& bodie
     Scene scene{World(layout), ComponentSet::range(0, static_cast<Index>(components.size())), {}, std::move(placed),
                 layout->field("q"), layout->field("qd")};
     World& w = scene.world;
-    for (FieldId f = 0; f < kRigidFieldCount; ++f)
+    for (FieldId f = 0; f < n_rigid_fields; ++f)
         for (Index i = 0; i < rigid.size(); ++i) w.at(f, i) = rigid.at(f, i);
     std::vector<Index> spheres;
     for (std::size_t k = 0; k < scene.models.size(); ++k) {

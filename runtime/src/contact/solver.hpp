@@ -21,6 +21,10 @@
 // the segment moves with J(s) = (1 − s) J₁ + s J₂, so B(s) = (1 − s) B₁ + s B₂ and
 // A(s) = (1 − s)² A₁₁ + 2 s (1 − s) sym(A₁₂) + s² A₂₂ with A_ij = J_i B_j. Its contacts are
 // sphere rows at that point (a radius-r sphere at the segment's point), s fixed for the step.
+// Against a rigid box or capsule a model sphere or capsule is side b of point rows (one row
+// per manifold point, no block): its anchor is the point at s plus the surface offset lb
+// (world), its velocity that point's, its K⁻¹ share uᵀ A(s) u, and an impulse reaches it
+// through B(s).
 // A row of a manifold (a box or capsule against anything: a "point" row) has general lever
 // arms r_a = x − p_a, r_b = x − p_b from the centres to the contact point x (the midpoint of
 // its two surface points):
@@ -102,9 +106,11 @@ struct Row {
     // Point rows (manifolds; file comment):
     bool point = false;
     std::uint32_t feature = 0;   // ManifoldPoint::feature: with b, the warm-start key
-    double la[3], lb[3];         // surface points in a's and b's body frames (b's: world for a plane)
+    double la[3], lb[3];         // surface points in a's and b's body frames (b's: world for a plane,
+                                 // the offset from the point at sb for a model side)
     double xa[3], xb[3];         // lever arms r_a, r_b at the velocity solve
-    std::uint8_t block_size = 1; // on a manifold's first row: its point count (0 on the others)
+    std::uint8_t block_size = 1; // on a manifold's first row: its point count (0 on the others;
+                                 // 1 on each row of a manifold with a model side)
     int block = -1;              // setup_blocks: the Block of a manifold of 2+ points (all its rows)
 };
 
@@ -174,12 +180,14 @@ inline void cross(const double* a, const double* b, double* out) {
     out[2] = a[0] * b[1] - a[1] * b[0];
 }
 
-/// A point row's v_rel = (v_a + ω_a × r_a) − (v_b + ω_b × r_b) (file comment).
+/// A point row's v_rel = (v_a + ω_a × r_a) − (v_b + ω_b × r_b) (file comment; a model side b
+/// has no spin and moves with its point at sb).
 inline void point_velocity(const Row& c, const Body& A, const Body& B, double* dv) {
-    double wa[3], wb[3];
+    double wa[3], wb[3], t[3];
     cross(A.w, c.xa, wa);
     cross(B.w, c.xb, wb);
-    for (int k = 0; k < 3; ++k) dv[k] = A.v[k] + wa[k] - B.v[k] - wb[k];
+    const double* vb = at_fraction(B, c.sb, true, t);
+    for (int k = 0; k < 3; ++k) dv[k] = A.v[k] + wa[k] - vb[k] - wb[k];
 }
 
 /// K⁻¹(u) at lever arms ra, rb (file comment), each side's share scaled by sa, sb (Jacobi's
@@ -326,12 +334,19 @@ public:
 private:
     /// detect for a world with shape fields: bounds of every shape through the broad phase,
     /// then spheres as before and every other pair by its manifold (point rows).
-    void detect_shapes(const World& w);
+    void detect_shapes(const World& w, double dt);
     /// contacts_ (sphere contacts) → rows_, in scratch indices.
     void spheres_to_rows(const World& w);
     /// The rows of the model capsules: against planes (at an end), spheres and other models'
-    /// capsules (at the closest points), within the margins.
+    /// capsules (at the closest points), within the margins; against rigid boxes and capsules
+    /// point rows (side b).
     void capsule_rows(double dt);
+    /// detect_shapes' part for the models' spheres: against the rigid bodies (sphere rows with
+    /// spheres, point rows with boxes and capsules), other models' spheres and the planes.
+    void model_sphere_contacts();
+    /// Point rows of a manifold between rigid body a and model sphere or capsule b (normal from
+    /// b towards a); `axis` (a capsule's, else null) gives each point's fraction s.
+    void add_model_manifold(const Manifold& m, std::uint32_t a, std::uint32_t b, const Capsule* axis);
 
     /// Point rows from a manifold between scratch bodies a and b (b = the static body and
     /// `plane` its plane for a plane).
@@ -339,7 +354,7 @@ private:
     /// The world surface points of a point row at the current positions.
     void anchors(const Row& c, double* xa, double* xb) const;
     /// A point row's impulse P on a (−P on b) at its lever arms.
-    void apply_point(const Row& c, const double* p, std::vector<Body>& B) const;
+    void apply_point(const Row& c, const double* p, std::vector<Body>& B);
     /// The warm-start key of a row: its partner (body + 1, or −(plane + 1)) and, for a
     /// point row, its feature times 2³².
     double cache_key(const Row& c) const;

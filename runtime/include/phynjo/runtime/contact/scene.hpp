@@ -67,9 +67,10 @@ struct Scene {
     FieldId q = 0, qd = 0;      ///< the fields of the coordinates
 };
 
-/// A scene: the rigid bodies of `components` (as make_rigid_world, mass properties validated),
-/// then the `models` at their initial states, then `extra_fields` (e.g. contact_cache_fields()).
-/// Proxies have zero mass fields and the sphere's radius. Throws std::invalid_argument for an
+/// A scene: the rigid bodies of `components` (as make_rigid_world, mass properties validated;
+/// spheres, boxes and capsules — the world then has the shape fields), then the `models` at
+/// their initial states, then `extra_fields` (e.g. contact_cache_fields()). Proxies have zero
+/// mass fields and the sphere's radius. Throws std::invalid_argument for an
 /// empty or repeated instance name, a model without shape functions, a non-positive radius;
 /// InvalidBody as make_rigid_world.
 Scene make_scene(const Registry& components, const std::vector<RigidBody>& bodies, const std::vector<RigidInit>& init,
