@@ -19,13 +19,7 @@ int main(int argc, char** argv) {
     const double dt = 1.0 / 240, t_end = 10;
     Registry reg;
     std::vector<RigidInit> init;
-    for (int r = 0; r < rows; ++r)
-        for (int j = 0; j < rows - r; ++j) {
-            reg.add("b" + std::to_string(init.size()));
-            RigidInit s;
-            s.position = {(j - 0.5 * (rows - r - 1)) * 1.02, 0.5 + r, 0};
-            init.push_back(s);
-        }
+    box_pyramid_lattice(rows, reg, init);
     World w = make_rigid_world(reg, std::vector<RigidBody>(init.size(), RigidBody::solid_box(1, {0.5, 0.5, 0.5})), init,
                                contact_cache_fields(32));
     const std::vector<Plane> planes{Plane::ground()};

@@ -33,6 +33,18 @@ inline phynjo::runtime::Stepper contact_stepper(const phynjo::runtime::World& w,
     return Stepper(rigid_contact_step(Force3D::gravity(9.81), all_bodies(w), planes, material, o, w.layout_ptr()));
 }
 
+/// A pyramid of 1 m cubes on the ground, `rows` rows, 1.02 m apart in a row, centred on x = 0:
+/// their names ("b0", …, bottom row first) into `reg`, their starting states into `init`.
+inline void box_pyramid_lattice(int rows, phynjo::runtime::Registry& reg, std::vector<phynjo::runtime::RigidInit>& init) {
+    for (int r = 0; r < rows; ++r)
+        for (int j = 0; j < rows - r; ++j) {
+            reg.add("b" + std::to_string(init.size()));
+            phynjo::runtime::RigidInit s;
+            s.position = {(j - 0.5 * (rows - r - 1)) * 1.02, 0.5 + r, 0};
+            init.push_back(s);
+        }
+}
+
 /// A page titled `title` showing every body of `w` and the `planes`.
 inline phynjo::runtime::Recorder rigid_page(const phynjo::runtime::World& w, std::span<const phynjo::runtime::Plane> planes,
                                             std::string title) {
