@@ -30,6 +30,19 @@ double fraction_along(const Capsule& c, const Eigen::Vector3d& x) {
     const double l2 = d.squaredNorm();
     return l2 > 0 ? std::clamp((x - c.p0).dot(d) / l2, 0.0, 1.0) : 0.0;
 }
+/// A (scratch) row made a sphere row between scratch bodies a and b (b the static body and
+/// `plane` its plane for a plane), nothing carried, at fractions 0 (set sa, sb after).
+void start_sphere_row(Row& r, std::uint32_t a, std::uint32_t b, int plane) {
+    r.a = a;
+    r.b = b;
+    r.plane = plane;
+    r.jn = r.jt1 = r.jt2 = 0;
+    r.slot = -1;
+    r.point = false; // the scratch row may have been a manifold's
+    r.block_size = 1;
+    r.block = -1;
+    r.sa = r.sb = 0;
+}
 /// Whether two boxes overlap.
 bool overlap(const AABB& a, const AABB& b) {
     return (a.lo.array() <= b.hi.array()).all() && (b.lo.array() <= a.hi.array()).all();
@@ -103,14 +116,7 @@ void Solver::capsule_rows(double dt) {
         for (int i = 0; i < m.count; ++i) {
             const ManifoldPoint& p = m.points[static_cast<std::size_t>(i)];
             Row& r = rows_.emplace_back();
-            r.a = a;
-            r.b = b;
-            r.plane = plane;
-            r.jn = r.jt1 = r.jt2 = 0;
-            r.slot = -1;
-            r.point = false;
-            r.block_size = 1;
-            r.block = -1;
+            start_sphere_row(r, a, b, plane);
             r.sa = fraction_along(ca, p.on_a + ca.radius * m.normal); // the axis points behind the surface points
             r.sb = cb != nullptr ? fraction_along(*cb, p.on_b - cb->radius * m.normal) : 0.0;
         }
@@ -167,16 +173,7 @@ void Solver::spheres_to_rows(const World& w) {
         const std::uint32_t a = local_[k.a], b = k.plane >= 0 ? stat : local_[k.b];
         // Spheres of one model do not collide with each other (scene.hpp).
         if (b != stat && bodies_[a].model >= 0 && bodies_[a].model == bodies_[b].model) continue;
-        Row& r = rows_[kept++];
-        r.a = a;
-        r.b = b;
-        r.plane = k.plane;
-        r.jn = r.jt1 = r.jt2 = 0;
-        r.slot = -1;
-        r.point = false; // the scratch row may have been a manifold's
-        r.block_size = 1;
-        r.block = -1;
-        r.sa = r.sb = 0;
+        start_sphere_row(rows_[kept++], a, b, k.plane);
     }
     rows_.resize(kept);
 }
@@ -258,7 +255,9 @@ void Solver::model_sphere_contacts() {
     const bool uniform = options_.margin >= 0;
     auto margin_of = [&](std::size_t k) { return uniform ? 0.5 * options_.margin : margins_[k]; };
     auto contact = [&](std::size_t a, std::size_t b, int plane) {
-        Contact c;
+        Contact c; // spheres_to_rows takes the pair and the plane; the geometry is found again
+        c.normal = Eigen::Vector3d::Zero();
+        c.separation = 0;
         c.a = ids_[a];
         c.b = ids_[b];
         c.plane = plane;

@@ -43,22 +43,21 @@ Scene make_scene(const Registry& components, const std::vector<RigidBody>& bodie
         if (s.n_capsules > 0) s.capsule_radii(p.capsule_radii);
         std::size_t offset = 0;
         for (std::size_t k = 0; k < s.n_shapes; ++k) {
-            if (s.shape_kinds[k] == ModelShape::capsule) {
-                const double r = p.capsule_radii[p.ends.size()];
+            const ModelShape kind = s.shape_kinds[k];
+            if (kind != ModelShape::segment) { // a sphere or capsule collides: its radius must be positive
+                const bool sphere = kind == ModelShape::sphere;
+                const double r = sphere ? p.radii[p.spheres.size()] : p.capsule_radii[p.ends.size()];
                 if (!(r > 0) || !std::isfinite(r))
-                    throw std::invalid_argument("make_scene: capsule '" + s.shape_names[k] + "' of model '" + m.name +
-                                                "' has radius " + std::to_string(r) + " m; it must be positive");
-                p.ends.push_back(offset);
+                    throw std::invalid_argument(std::string("make_scene: ") + (sphere ? "sphere '" : "capsule '") +
+                                                s.shape_names[k] + "' of model '" + m.name + "' has radius " +
+                                                std::to_string(r) + " m; it must be positive");
             }
-            if (s.shape_kinds[k] == ModelShape::sphere) {
-                const std::size_t j = p.spheres.size();
-                if (!(p.radii[j] > 0) || !std::isfinite(p.radii[j]))
-                    throw std::invalid_argument("make_scene: sphere '" + s.shape_names[k] + "' of model '" + m.name +
-                                                "' has radius " + std::to_string(p.radii[j]) + " m; it must be positive");
+            if (kind == ModelShape::capsule) p.ends.push_back(offset);
+            if (kind == ModelShape::sphere) {
                 p.spheres.push_back(reg.add(m.name + "." + s.shape_names[k]));
                 p.centre.push_back(offset);
             }
-            offset += shape_values(s.shape_kinds[k]);
+            offset += shape_values(kind);
         }
         for (const std::string& c : s.coordinate_names) p.coordinates.push_back(reg.add(m.name + "." + c));
         p.system = std::make_shared<const LagrangianSystem>(std::move(m.system));
