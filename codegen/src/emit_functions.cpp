@@ -404,8 +404,9 @@ void FunctionPrinter::apply_event() {
         s << "\n";
 }
 
-/// The shapes' points from one CSE pass; each sphere's ∂(X, Y, Z)/∂q and each capsule's of
-/// both ends; the radii (phynjo extension).
+/// The shapes' points from one CSE pass; each sphere's ∂(X, Y, Z)/∂q, each capsule's of both
+/// ends, each box's of its centre with its angular-velocity Jacobian; the radii and half extents
+/// (phynjo extension).
 void FunctionPrinter::shapes() {
     // a function of (P, t, q) filling `out` from `exprs` (one CSE pass), or its empty stub
     auto of_q = [&](const char* fn, const char* out, const std::vector<Expr>& exprs) {
@@ -419,13 +420,20 @@ void FunctionPrinter::shapes() {
     of_q("shape_positions", "X", opt.shape_points);
     of_q("sphere_jacobians", "J", opt.sphere_jacobians);
     of_q("capsule_jacobians", "J", opt.capsule_jacobians);
-    for (const auto& [fn, radii] : {std::pair{"sphere_radii", &opt.sphere_radii}, {"capsule_radii", &opt.capsule_radii}}) {
-        s << head(fn) << "    check_size(r, " << radii->size() << ", \"" << fn << "\", \"r\");\n";
-        if (radii->empty()) s << "    (void)P;\n";
+    of_q("box_jacobians", "J", opt.box_jacobians);
+    struct Sizes {
+        const char* fn;
+        const char* out;
+        const std::vector<Expr>* values;
+    };
+    for (const auto& [fn, out, values] : {Sizes{"sphere_radii", "r", &opt.sphere_radii}, Sizes{"capsule_radii", "r", &opt.capsule_radii},
+                                          Sizes{"box_half_extents", "h", &opt.box_half_extents}}) {
+        s << head(fn) << "    check_size(" << out << ", " << values->size() << ", \"" << fn << "\", \"" << out << "\");\n";
+        if (values->empty()) s << "    (void)P;\n";
         else {
-            const std::string b = body(names, *radii, res, uses_t, uses_p);
+            const std::string b = body(names, *values, res, uses_t, uses_p);
             s << unused(uses_t, uses_p, false) << b;
-            for (std::size_t k = 0; k < radii->size(); ++k) s << "    r[" << k << "] = " << res[k] << ";\n";
+            for (std::size_t k = 0; k < values->size(); ++k) s << "    " << out << "[" << k << "] = " << res[k] << ";\n";
         }
         s.close();
         s << "\n";

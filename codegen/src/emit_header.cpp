@@ -56,26 +56,26 @@ std::string emit_header(const Model& m, bool mass_depends_on_velocities) {
       << "/// The shapes, in file order.\n"
       << "inline constexpr std::array<std::string_view, n_shapes> shape_names{";
     for (std::size_t k = 0; k < m.shapes.size(); ++k) h << (k ? ", " : "") << '"' << m.shapes[k].name << '"';
-    std::size_t n_spheres = 0, n_capsules = 0;
+    std::size_t n_spheres = 0, n_capsules = 0, n_boxes = 0;
     for (const Shape& sh : m.shapes) {
         n_spheres += sh.kind == Shape::Kind::Sphere ? 1 : 0;
         n_capsules += sh.kind == Shape::Kind::Capsule ? 1 : 0;
+        n_boxes += sh.kind == Shape::Kind::Box ? 1 : 0;
     }
     h << "};\n/// (phynjo extension) Per shape: true for a sphere (3 entries of shape_positions, and a\n"
-      << "/// Jacobian in sphere_jacobians), false for a segment or capsule (6 entries).\n"
+      << "/// Jacobian in sphere_jacobians), false for a segment, capsule (6 entries) or box (7).\n"
       << "inline constexpr std::array<bool, n_shapes> shape_is_sphere{";
     for (std::size_t k = 0; k < m.shapes.size(); ++k) h << (k ? ", " : "") << (m.shapes[k].kind == Shape::Kind::Sphere ? "true" : "false");
     h << "};\n/// (phynjo extension) Per shape its kind: 0 a segment (6 entries of shape_positions, drawn\n"
       << "/// only), 1 a sphere (3 entries, a Jacobian in sphere_jacobians), 2 a capsule (6 entries, a\n"
-      << "/// Jacobian in capsule_jacobians).\n"
+      << "/// Jacobian in capsule_jacobians), 3 a box (7 entries: centre and quaternion w, x, y, z; a\n"
+      << "/// Jacobian in box_jacobians).\n"
       << "inline constexpr std::array<unsigned char, n_shapes> shape_kinds{";
-    for (std::size_t k = 0; k < m.shapes.size(); ++k) {
-        const Shape::Kind kind = m.shapes[k].kind;
-        h << (k ? ", " : "") << (kind == Shape::Kind::Segment ? 0 : kind == Shape::Kind::Sphere ? 1 : 2);
-    }
-    h << "};\n/// (phynjo extension) Number of spheres and of capsules (the shapes that collide).\n"
+    for (std::size_t k = 0; k < m.shapes.size(); ++k) h << (k ? ", " : "") << m.shapes[k].code();
+    h << "};\n/// (phynjo extension) Number of spheres, of capsules and of boxes (the shapes that collide).\n"
       << "inline constexpr std::size_t n_spheres = " << n_spheres << ";\n"
-      << "inline constexpr std::size_t n_capsules = " << n_capsules << ";\n";
+      << "inline constexpr std::size_t n_capsules = " << n_capsules << ";\n"
+      << "inline constexpr std::size_t n_boxes = " << n_boxes << ";\n";
     h << "\n/// The parameters, with the defaults of the model file. A parameter defined from others\n"
       << "/// (phynjo::runtime::Derived) follows them until it is assigned a value.\nstruct Parameters {\n";
     for (const auto& p : m.parameters) {
@@ -169,7 +169,8 @@ std::string emit_header(const Model& m, bool mass_depends_on_velocities) {
       << "/// evaluated on (q, qdot) as given — the state just before the event — then stored into\n"
       << "/// them. A `stop` event resets nothing. std::out_of_range for k >= n_events.\n"
       << decl("apply_event")
-      << "/// Shapes, file order: centres of spheres (3 each) and the end points of segments and capsules (6 each).\n"
+      << "/// Shapes, file order: centres of spheres (3 each), the end points of segments and capsules (6 each),\n"
+      << "/// a box's centre and orientation quaternion (w, x, y, z) (7 each).\n"
       << decl("shape_positions")
       << "/// For each sphere, d(X, Y, Z)/dq: 3 x dof, row-major, spheres in file order.\n"
       << decl("sphere_jacobians")
@@ -179,7 +180,12 @@ std::string emit_header(const Model& m, bool mass_depends_on_velocities) {
       << "/// row-major, capsules in file order.\n"
       << decl("capsule_jacobians")
       << "/// (phynjo extension) The capsules' radii (m), file order, length n_capsules.\n"
-      << decl("capsule_radii") << "\n"
+      << decl("capsule_radii")
+      << "/// (phynjo extension) For each box, d(X, Y, Z)/dq of its centre (rows 0-2) and the Jacobian of\n"
+      << "/// its angular velocity, omega = J_w qdot (rows 3-5, world frame): 6 x dof, row-major, boxes in file order.\n"
+      << decl("box_jacobians")
+      << "/// (phynjo extension) The boxes' half extents (HX, HY, HZ) (m), file order, length 3 n_boxes.\n"
+      << decl("box_half_extents") << "\n"
       << "} // namespace " << m.name << "\n#endif\n\n"
       << "#if !defined(PHYNJO_GENERATED_FUNCTIONS_ONLY) && !defined(" << guard << "_RUNTIME)\n#define " << guard
       << "_RUNTIME\n#include \"phynjo/runtime/simulate/generated.hpp\"\n\n"

@@ -73,7 +73,7 @@ std::string emit_kernel_table(const Model& m, bool mass_depends_on_velocities, c
       << "std::span<const double> in_(const double* p, std::size_t n) { return {p, n}; }\n"
       << "std::span<double> out_(double* p, std::size_t n) { return {p, n}; }\n"
       << "constexpr std::size_t n_ = k_::dof, nc_ = k_::n_constraints, ne_ = k_::n_events, ns_ = k_::n_spheres,\n"
-      << "                      nk_ = k_::n_capsules,\n"
+      << "                      nk_ = k_::n_capsules, nb_ = k_::n_boxes,\n"
       << "                      nu_ = k_::n_inputs, nx_ = " << shape_values << ";\n\n";
 
     // the functions, each through guarded()
@@ -103,6 +103,7 @@ std::string emit_kernel_table(const Model& m, bool mass_depends_on_velocities, c
     positions("shape_positions", "nx_");
     positions("sphere_jacobians", "3 * n_ * ns_");
     positions("capsule_jacobians", "6 * n_ * nk_");
+    positions("box_jacobians", "6 * n_ * nb_");
     s << "int energy_(const void* P, double t, const double* q, const double* v, double* E) {\n"
       << "    return guarded([&] { *E = k_::energy(P_(P), t, in_(q, n_), in_(v, n_)); });\n}\n"
       << "int accelerations_and_multipliers_(const void* P, double t, const double* q, const double* v, double* a,\n"
@@ -131,6 +132,8 @@ std::string emit_kernel_table(const Model& m, bool mass_depends_on_velocities, c
       << "    return guarded([&] { k_::apply_event(P_(P), k, t, out_(q, n_), out_(v, n_)); });\n}\n"
       << "int sphere_radii_(const void* P, double* r) { return guarded([&] { k_::sphere_radii(P_(P), out_(r, ns_)); }); }\n"
       << "int capsule_radii_(const void* P, double* r) { return guarded([&] { k_::capsule_radii(P_(P), out_(r, nk_)); }); }\n"
+      << "int box_half_extents_(const void* P, double* h) {\n"
+      << "    return guarded([&] { k_::box_half_extents(P_(P), out_(h, 3 * nb_)); });\n}\n"
       << "const char* last_error() { return last_error_.c_str(); }\n\n";
 
     // parameters: made, copied, set and read by index (file order)
@@ -161,13 +164,11 @@ std::string emit_kernel_table(const Model& m, bool mass_depends_on_velocities, c
       << numbers("int", "event_directions", m.events, [](const Event& e) { return std::to_string(e.direction); })
       << numbers("unsigned char", "event_stops", m.events, [](const Event& e) { return std::string(e.stop ? "1" : "0"); })
       << names("shape_names", m.shapes, [](const Shape& x) { return x.name; })
-      << numbers("unsigned char", "shape_kinds", m.shapes, [](const Shape& x) {
-             return std::string(x.kind == Shape::Kind::Segment ? "0" : x.kind == Shape::Kind::Sphere ? "1" : "2");
-         });
+      << numbers("unsigned char", "shape_kinds", m.shapes, [](const Shape& x) { return std::to_string(x.code()); });
 
     s << "\nconst phynjo_kernel table = {\n"
       << "    PHYNJO_KERNEL_ABI_VERSION, sizeof(phynjo_kernel), " << quoted(m.name) << ", " << quoted(version) << ",\n"
-      << "    n_, " << m.parameters.size() << ", nu_, nc_, ne_, k_::n_shapes, ns_, nk_, nx_, "
+      << "    n_, " << m.parameters.size() << ", nu_, nc_, ne_, k_::n_shapes, ns_, nk_, nb_, nx_, "
       << (has_lane_kernel(m) ? "phynjo::runtime::lanes::kWidth" : "0") << ", " << (mass_depends_on_velocities ? 1 : 0) << ",\n"
       << "    coordinate_names, parameter_names, parameter_units, parameter_defaults, parameter_is_input, parameter_is_derived,\n"
       << "    constraint_names, constraint_holonomic, event_names, event_directions, event_stops, shape_names, shape_kinds,\n"
@@ -175,10 +176,11 @@ std::string emit_kernel_table(const Model& m, bool mass_depends_on_velocities, c
       << "    mass_matrix_, forcing_, accelerations_, momenta_, generalized_forces_,\n"
       << "    constraint_residuals_, constraint_velocity_residuals_, constraint_scales_, constraint_gamma_,\n"
       << "    rhs_jacobian_, input_jacobian_, event_guards_, constraint_matrix_, shape_positions_, sphere_jacobians_,\n"
-      << "    capsule_jacobians_,\n"
+      << "    capsule_jacobians_, box_jacobians_,\n"
       << "    energy_, accelerations_and_multipliers_, canonical_jacobian_, rk4_step_, accelerations_energy_guards_,\n"
       << "    rk4_step_values_, " << (has_lane_kernel(m) ? "rk4_step_values_lanes_each_" : "nullptr")
-      << ", initial_state_, apply_event_, sphere_radii_, capsule_radii_, last_error};\n"
+      << ", initial_state_, apply_event_, sphere_radii_, capsule_radii_, box_half_extents_,\n"
+      << "    last_error};\n"
       << "} // namespace\n\n"
       << "extern \"C\" __attribute__((visibility(\"default\"))) const phynjo_kernel* phynjo_kernel_v1(void) { return &table; }\n";
     return s.str();

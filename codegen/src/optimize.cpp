@@ -1,6 +1,8 @@
 // The optimize step (optimize.hpp): Horner forms and the Jacobians of them.
 #include "phynjo/codegen/optimize.hpp"
 
+#include "box_kinematics.hpp"
+
 #include "phynjo/cas/cas.hpp"
 
 #include <initializer_list>
@@ -50,6 +52,14 @@ OptimizedEquations optimize(const Model& m, const EquationsOfMotion& derived) {
     }
     const auto q = m.coordinate_symbols();
     for (const Shape& sh : m.shapes) {
+        if (sh.kind == Shape::Kind::Box) {
+            const auto pose = detail::box_pose(sh);
+            o.shape_points.insert(o.shape_points.end(), pose.begin(), pose.end());
+            const auto J = detail::box_jacobian(sh, q);
+            o.box_jacobians.insert(o.box_jacobians.end(), J.begin(), J.end());
+            o.box_half_extents.insert(o.box_half_extents.end(), sh.half_extents.begin(), sh.half_extents.end());
+            continue;
+        }
         o.shape_points.insert(o.shape_points.end(), sh.points.begin(), sh.points.end());
         if (sh.kind == Shape::Kind::Segment) continue;
         const bool sphere = sh.kind == Shape::Kind::Sphere;
@@ -61,6 +71,7 @@ OptimizedEquations optimize(const Model& m, const EquationsOfMotion& derived) {
     if (!o.shape_points.empty()) o.shape_points = cas::horner(o.shape_points);
     if (!o.sphere_jacobians.empty()) o.sphere_jacobians = cas::horner(o.sphere_jacobians);
     if (!o.capsule_jacobians.empty()) o.capsule_jacobians = cas::horner(o.capsule_jacobians);
+    if (!o.box_jacobians.empty()) o.box_jacobians = cas::horner(o.box_jacobians);
     o.initial_values = m.initial_q;
     o.initial_values.insert(o.initial_values.end(), m.initial_qdot.begin(), m.initial_qdot.end());
     return o;

@@ -50,7 +50,7 @@ Signature signature(bool mass_depends_on_velocities, std::string_view name) {
                                   {"event_guards", "g"}})
         if (name == fn) return of_state(fn, out);
     for (const auto& [fn, out] : {std::pair{"constraint_matrix", "G"}, {"shape_positions", "X"}, {"sphere_jacobians", "J"},
-                                  {"capsule_jacobians", "J"}})
+                                  {"capsule_jacobians", "J"}, {"box_jacobians", "J"}})
         if (name == fn) return of_positions(fn, out);
     if (name == "energy") return make("double", "energy", {{kP, ""}, {kT, ""}, {kQ, ""}, {kQd, ""}});
     if (name == "rk4_step")
@@ -82,6 +82,7 @@ Signature signature(bool mass_depends_on_velocities, std::string_view name) {
                     {{kP, ""}, {"std::size_t k", ""}, {kT, ""}, {"std::span<double> q", ""}, {"std::span<double> qdot", ""}});
     if (name == "sphere_radii" || name == "capsule_radii")
         return make("void", std::string(name), {{kP, ""}, {"std::span<double> r", ""}});
+    if (name == "box_half_extents") return make("void", "box_half_extents", {{kP, ""}, {"std::span<double> h", ""}});
     if (name == "system") return make("phynjo::runtime::LagrangianSystem", "system", {{kP, "{}"}});
     if (name == "live_system") return make("phynjo::runtime::LagrangianSystem", "live_system", {{"const Parameters* P", ""}});
     if (name == "make_world") return make("phynjo::runtime::World", "make_world", {{kP, "{}"}});

@@ -29,11 +29,17 @@ struct point_class : annotate_position {};
 struct sphere_class : annotate_position {};
 struct segment_class : annotate_position {};
 struct capsule_class : annotate_position {};
+struct rotation_class : annotate_position {};
+struct rotations_class {};
+struct box_class : annotate_position {};
 struct geometry_class {};
 struct shape_stmt_class : annotate_position {};
 struct at_class {};
 struct to_class {};
 struct from_class {};
+struct rotated_class {};
+struct about_class {};
+struct then_class {};
 struct statement_class : error_handler {}; // the entry rule
 struct bindings_class {};
 struct names_class {};
@@ -58,12 +64,19 @@ inline const x3::rule<point_class, ast::Point> point = "a point (X, Y, Z)";
 inline const x3::rule<sphere_class, ast::Sphere> sphere = "sphere";
 inline const x3::rule<segment_class, ast::Segment> segment = "segment";
 inline const x3::rule<capsule_class, ast::Capsule> capsule = "capsule";
+inline const x3::rule<rotation_class, ast::Rotation> rotation = "a rotation (ANGLE about (AX, AY, AZ))";
+inline const x3::rule<rotations_class, std::vector<ast::Rotation>> rotations = "a rotation (ANGLE about (AX, AY, AZ))";
+inline const x3::rule<box_class, ast::Box> box = "box";
 inline const x3::rule<geometry_class, ast::Geometry> geometry =
-    "a shape (sphere R at (X, Y, Z), segment (X1, Y1, Z1) to (X2, Y2, Z2) or capsule R from (X1, Y1, Z1) to (X2, Y2, Z2))";
+    "a shape (sphere R at (X, Y, Z), segment (X1, Y1, Z1) to (X2, Y2, Z2), capsule R from (X1, Y1, Z1) to (X2, Y2, Z2) or "
+    "box (HX, HY, HZ) at (X, Y, Z))";
 inline const x3::rule<shape_stmt_class, ast::ShapeStmt> shape_stmt = "shape statement";
 inline const x3::rule<at_class> at_kw = "'at'";
 inline const x3::rule<to_class> to_kw = "'to'";
 inline const x3::rule<from_class> from_kw = "'from'";
+inline const x3::rule<rotated_class> rotated_kw = "'rotated'";
+inline const x3::rule<about_class> about_kw = "'about'";
+inline const x3::rule<then_class> then_kw = "'then'";
 inline const x3::rule<statement_class, ast::Statement> statement = "statement";
 inline const x3::rule<bindings_class, std::vector<ast::Binding>> bindings = "binding";
 inline const x3::rule<names_class, std::vector<ast::CoordinateDecl>> names = "name";
@@ -94,7 +107,13 @@ inline const auto from_kw_def = kw("from");
 inline const auto sphere_def = kw("sphere") > expression > at_kw > point;
 inline const auto segment_def = kw("segment") > point > to_kw > point;
 inline const auto capsule_def = kw("capsule") > expression > from_kw > point > to_kw > point;
-inline const auto geometry_def = sphere | segment | capsule;
+inline const auto rotated_kw_def = kw("rotated");
+inline const auto about_kw_def = kw("about");
+inline const auto then_kw_def = kw("then");
+inline const auto rotation_def = expression > about_kw > point;
+inline const auto rotations_def = rotation >> *(then_kw > rotation);
+inline const auto box_def = kw("box") > point > at_kw > point > -(rotated_kw > rotations);
+inline const auto geometry_def = sphere | segment | capsule | box;
 inline const auto shape_stmt_def = kw("shape") > name > ':' > geometry;
 inline const auto statement_def = model_stmt | coordinates_stmt | parameters_stmt | let_stmt | lagrangian_stmt |
                                   dissipation_stmt | force_stmt | initial_stmt | input_stmt | constraint_stmt | event_stmt |
@@ -102,6 +121,7 @@ inline const auto statement_def = model_stmt | coordinates_stmt | parameters_stm
 
 BOOST_SPIRIT_DEFINE(binding, bindings, names, coordinate_decl, model_stmt, coordinates_stmt, parameters_stmt, let_stmt, lagrangian_stmt, dissipation_stmt,
                     force_stmt, initial_stmt, input_stmt, constraint_stmt, event_action, event_actions, relation, event_stmt,
-                    point, sphere, segment, capsule, geometry, shape_stmt, at_kw, to_kw, from_kw, statement)
+                    point, sphere, segment, capsule, rotation, rotations, box, geometry, shape_stmt, at_kw, to_kw, from_kw,
+                    rotated_kw, about_kw, then_kw, statement)
 
 } // namespace phynjo::grammar::parser

@@ -459,7 +459,10 @@ PYBIND11_MODULE(_phynjo, m) {
             py::list out;
             for (std::size_t i = 0; i < t.n_shapes; ++i)
                 out.append(py::make_tuple(std::string(t.shape_names[i]),
-                                          std::string(t.shape_kinds[i] == 1 ? "sphere" : t.shape_kinds[i] == 2 ? "capsule" : "segment")));
+                                          std::string(t.shape_kinds[i] == 1   ? "sphere"
+                                                          : t.shape_kinds[i] == 2 ? "capsule"
+                                                          : t.shape_kinds[i] == 3 ? "box"
+                                                                                  : "segment")));
             return out;
         })
         .def("parameter", [](const Kernel& k, const py::dict& params, const std::string& name) {

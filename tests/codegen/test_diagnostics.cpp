@@ -202,7 +202,8 @@ TEST_CASE("lag diagnostics: events, with notes", "[codegen][diagnostics][events]
 
 
 // Bugs caught: a negative or non-constant radius accepted, a shape that moves with a
-// velocity, a missing 'at'/'to'/'from' reported in X3's words, a second shape of a name without
+// velocity, a missing 'at'/'to'/'from'/'about' reported in X3's words, a zero or turning box
+// axis, a second shape of a name without
 // the note to the first, a centre that is not a length in a file with units.
 TEST_CASE("lag diagnostics: shapes", "[codegen][diagnostics][shapes]") {
     CHECK(diagnose("coordinates x\nparameters r = -1/10\nlagrangian 1/2*x'^2\nshape b: sphere r at (x, 0, 0)\n") ==
@@ -217,9 +218,39 @@ TEST_CASE("lag diagnostics: shapes", "[codegen][diagnostics][shapes]") {
     CHECK(diagnose("coordinates x\nlagrangian 1/2*x'^2\nshape s: segment (0, 0, 0) (x, 0, 0)\n") ==
           "m.lag:3:28: error: expected 'to', found '('\n    shape s: segment (0, 0, 0) (x, 0, 0)\n"
           "                               ^\n");
-    CHECK(diagnose("coordinates x\nlagrangian 1/2*x'^2\nshape s: box 1 at (x, 0, 0)\n") ==
-          "m.lag:3:10: error: expected a shape (sphere R at (X, Y, Z), segment (X1, Y1, Z1) to (X2, Y2, Z2) or capsule R "
-          "from (X1, Y1, Z1) to (X2, Y2, Z2)), found 'box'\n    shape s: box 1 at (x, 0, 0)\n             ^~~\n");
+    CHECK(diagnose("coordinates x\nlagrangian 1/2*x'^2\nshape s: cone 1 at (x, 0, 0)\n") ==
+          "m.lag:3:10: error: expected a shape (sphere R at (X, Y, Z), segment (X1, Y1, Z1) to (X2, Y2, Z2), capsule R "
+          "from (X1, Y1, Z1) to (X2, Y2, Z2) or box (HX, HY, HZ) at (X, Y, Z)), found 'cone'\n"
+          "    shape s: cone 1 at (x, 0, 0)\n             ^~~~\n");
+    // boxes: three half extents, 'at', 'about' after each angle, something after 'then'; half
+    // extents like radii; a constant, non-zero axis; angles without velocities
+    const std::string box = "coordinates x\nlagrangian 1/2*x'^2\nshape s: box ";
+    CHECK(diagnose(box + "1 at (x, 0, 0)\n") ==
+          "m.lag:3:14: error: expected a point (X, Y, Z), found '1'\n    shape s: box 1 at (x, 0, 0)\n                 ^\n");
+    CHECK(diagnose(box + "(1, 1, 1)\n") ==
+          "m.lag:3:23: error: expected 'at', found end of line\n    shape s: box (1, 1, 1)\n                          ^\n");
+    CHECK(diagnose(box + "(1, 1, 1) at (x, 0, 0) rotated x\n") ==
+          "m.lag:3:46: error: expected 'about', found end of line\n    shape s: box (1, 1, 1) at (x, 0, 0) rotated x\n"
+          "                                                 ^\n");
+    CHECK(diagnose(box + "(1, 1, 1) at (x, 0, 0) rotated x about (0, 0, 1) then\n") ==
+          "m.lag:3:67: error: expected a rotation (ANGLE about (AX, AY, AZ)), found end of line\n"
+          "    shape s: box (1, 1, 1) at (x, 0, 0) rotated x about (0, 0, 1) then\n"
+          "                                                                      ^\n");
+    CHECK(diagnose(box + "(1/2, 1, -1) at (x, 0, 0)\n") ==
+          "m.lag:3:23: error: the half extent along z of shape 's' is -1: a half extent must be a positive finite length\n"
+          "    shape s: box (1/2, 1, -1) at (x, 0, 0)\n                          ^~\n");
+    CHECK(diagnose(box + "(1, 1, 1) at (x, 0, 0) rotated x about (0, 0, 0)\n") ==
+          "m.lag:3:53: error: the axis of the rotation of shape 's' is (0, 0, 0): an axis must have a positive finite length\n"
+          "    shape s: box (1, 1, 1) at (x, 0, 0) rotated x about (0, 0, 0)\n"
+          "                                                        ^~~~~~~~~\n");
+    CHECK(diagnose(box + "(1, 1, 1) at (x, 0, 0) rotated x about (0, 0, 1) then x about (x, 0, 1)\n") ==
+          "m.lag:3:77: error: the axis of the rotation 2 of shape 's' is not constant: it depends on the coordinate x\n"
+          "    shape s: box (1, 1, 1) at (x, 0, 0) rotated x about (0, 0, 1) then x about (x, 0, 1)\n"
+          "                                                                                ^\n");
+    CHECK(diagnose(box + "(1, 1, 1) at (x, 0, 0) rotated x' about (0, 0, 1)\n") ==
+          "m.lag:3:45: error: the angle of the rotation of shape 's' depends on the velocity x': a shape's position may "
+          "depend on t, coordinates, parameters and inputs\n    shape s: box (1, 1, 1) at (x, 0, 0) rotated x' about (0, 0, 1)\n"
+          "                                                ^~~\n");
     // capsules: 'from' and 'to' in their places, a radius like a sphere's, ends without velocities
     CHECK(diagnose("coordinates x\nlagrangian 1/2*x'^2\nshape c: capsule 1 (0, 0, 0) to (x, 0, 0)\n") ==
           "m.lag:3:20: error: expected 'from', found '('\n    shape c: capsule 1 (0, 0, 0) to (x, 0, 0)\n"
@@ -248,6 +279,11 @@ TEST_CASE("lag diagnostics: shapes", "[codegen][diagnostics][shapes]") {
     // 'from', like 'at' and 'to', is a keyword only inside its statement: a parameter may be named so
     CHECK(diagnose("coordinates x\nparameters from = 1/10\nlagrangian 1/2*x'^2\n"
                    "shape arm: capsule from from (0, 0, 0) to (x, from, 0)\n") == "(accepted)");
+    // so are 'rotated', 'about' and 'then'; a box with no turn, one turn, two turns
+    CHECK(diagnose("coordinates x\nparameters about = 1, then = 2, rotated = 3\nlagrangian 1/2*x'^2\n"
+                   "shape s: box (about, then, rotated) at (x, 0, 0) rotated rotated*x about (about, then, 0) then then "
+                   "about (0, 0, about)\nshape c: box (1, 1, 1) at (x, 1, 1)\n"
+                   "shape d: box (1, 1, 1) at (0, 0, 0) rotated x about (1, 1, 0)\n") == "(accepted)");
 }
 
 // Bugs caught: a dimension check that stops at the first error of a file, misses a term of

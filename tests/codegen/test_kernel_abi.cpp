@@ -65,6 +65,7 @@ void compare(const LagrangianSystem& a, const LagrangianSystem& b, std::uint32_t
     REQUIRE(a.shape_kinds == b.shape_kinds);
     REQUIRE(a.n_spheres == b.n_spheres);
     REQUIRE(a.n_capsules == b.n_capsules);
+    REQUIRE(a.n_boxes == b.n_boxes);
     REQUIRE(a.mass_depends_on_velocities == b.mass_depends_on_velocities);
     REQUIRE(bool(a.rk4_step_values_lanes_each) == bool(b.rk4_step_values_lanes_each));
     const std::size_t n = a.dof, nc = a.n_constraints, ne = a.n_events;
@@ -143,6 +144,8 @@ void compare(const LagrangianSystem& a, const LagrangianSystem& b, std::uint32_t
             both([&](const LagrangianSystem& s, std::vector<double>& o) { s.sphere_radii(o); }, a.n_spheres);
             both([&](const LagrangianSystem& s, std::vector<double>& o) { s.capsule_jacobians(t, q, o); }, 6 * n * a.n_capsules);
             both([&](const LagrangianSystem& s, std::vector<double>& o) { s.capsule_radii(o); }, a.n_capsules);
+            both([&](const LagrangianSystem& s, std::vector<double>& o) { s.box_jacobians(t, q, o); }, 6 * n * a.n_boxes);
+            both([&](const LagrangianSystem& s, std::vector<double>& o) { s.box_half_extents(o); }, 3 * a.n_boxes);
         }
     }
     std::vector<double> qa(n), va(n), qb(n), vb(n);

@@ -212,7 +212,8 @@ TEST_CASE("recorder: the page holds every frame as read, bodies and axes in orde
 }
 
 // Bugs caught: a generated model's shapes read from the wrong q, spheres and segments out of
-// file order or with y and z swapped; the coordinates, E − E(0) and the series' order.
+// file order or with y and z swapped, a box's quaternion written among the positions or its
+// half extents lost; the coordinates, E − E(0) and the series' order.
 // The oracle: shapes.lag's kinematics (tests/codegen/test_shapes.cpp's, by hand).
 TEST_CASE("recorder: a generated model's shapes and series, against its kinematics by hand", "[view]") {
     const shapes::Parameters P;
@@ -227,16 +228,20 @@ TEST_CASE("recorder: a generated model's shapes and series, against its kinemati
         rec.capture(w);
     }
     rec.capture_last(w);
-    REQUIRE(rec.bodies().size() == 8);
+    REQUIRE(rec.bodies().size() == 11);
     CHECK(rec.bodies()[1].kind == ViewBody::Kind::rod);
     CHECK(rec.bodies()[1].radius == 0); // a segment: the page's thin rod
     CHECK(rec.bodies()[2].radius == 3.0 / 40);
     CHECK(rec.bodies()[6].kind == ViewBody::Kind::rod); // a capsule: a rod of its radius
     CHECK(rec.bodies()[6].radius == 3.0 / 80);
     CHECK(rec.bodies()[7].radius == 1.0 / 25);
+    CHECK(rec.bodies()[8].kind == ViewBody::Kind::box); // lid: oriented, its half extents
+    CHECK(rec.bodies()[8].oriented);
+    CHECK(rec.bodies()[8].half_extents == std::array<double, 3>{0.05, 0.025, 0.125});
+    CHECK(rec.bodies()[10].half_extents == std::array<double, 3>{0.25, 0.25, 0.125});
     const std::size_t n_series = rec.series().size();
     REQUIRE(n_series == 5); // th1, th2, th1', th2', E − E(0)
-    const Decoded d = decode_page(rec.html(), n_series, 36, 0);
+    const Decoded d = decode_page(rec.html(), n_series, 45, 3);
     REQUIRE(d.times.size() == 11);
     CHECK(d.times.back() == w.time);
     const double e0 = sys.energy(0, std::vector<double>{0.3, -0.2}, std::vector<double>{0, 0});
@@ -247,8 +252,16 @@ TEST_CASE("recorder: a generated model's shapes and series, against its kinemati
                      z2 = -P.l2 * std::cos(th2);
         const std::vector<double> by_hand{x1, y1, 0, 0, 0, 0, x1, y1, 0, x2, y2, z2, x1, y1, 0, x2, y2, z2,
                                           1, -2, 0, P.h, P.a * std::sin(P.w * d.times[f]), 0,
-                                          0, 0, 0, x1, y1, 0, x1, y1, 0, x2, y2, z2};
-        for (std::size_t i = 0; i < 36; ++i) CHECK(d.positions[36 * f + i] == Approx(by_hand[i]).margin(1e-7));
+                                          0, 0, 0, x1, y1, 0, x1, y1, 0, x2, y2, z2,
+                                          (x1 + x2) / 2, (y1 + y2) / 2, z2 / 2, x1 / 2, y1 / 2, 0, -1, -2, 0};
+        for (std::size_t i = 0; i < 45; ++i) CHECK(d.positions[45 * f + i] == Approx(by_hand[i]).margin(1e-7));
+        // lid: q_z(th1) ⊗ q_y(th2) = (c1 c2, −s1 s2, c1 s2, s1 c2) of the half angles; crate: 1
+        const double c1 = std::cos(th1 / 2), s1 = std::sin(th1 / 2), c2 = std::cos(th2 / 2), s2 = std::sin(th2 / 2);
+        const std::array<double, 4> lid{c1 * c2, -s1 * s2, c1 * s2, s1 * c2}, crate{1, 0, 0, 0};
+        for (std::size_t i = 0; i < 4; ++i) {
+            CHECK(std::abs(d.orientations[12 * f + i] / 32767.0 - lid[i]) < 2e-5);
+            CHECK(std::abs(d.orientations[12 * f + 8 + i] / 32767.0 - crate[i]) < 2e-5);
+        }
         const double e = sys.energy(d.times[f], std::vector<double>{th1, th2}, std::vector<double>{d.series[2][f], d.series[3][f]});
         CHECK(d.series[4][f] == e - e0);
     }

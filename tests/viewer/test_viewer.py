@@ -84,18 +84,22 @@ def test_the_hook_reports_the_run_and_positions_match_the_csv(pages, driver):
     times = [float(r["t"]) for r in points]
     frames = expected_frame_times(times, FPS)
     assert hook[0] == len(frames)
-    assert hook[1] == 8
+    assert hook[1] == 11
     assert hook[2] == [0, T_END]
-    assert hook[3] == ["bob1", "rod1", "bob2", "rod2", "post", "float", "arm", "lever"]
-    # the capsules: rods of their radii (r2/2 and 1/25 m), the segments thin rods
+    assert hook[3] == ["bob1", "rod1", "bob2", "rod2", "post", "float", "arm", "lever", "lid", "tilt", "crate"]
+    # the capsules: rods of their radii (r2/2 and 1/25 m), the segments thin rods; boxes
     kinds = driver.execute_script("return phynjo.meta.bodies.map(b => [b.kind, b.radius])")
     assert kinds[1] == ["rod", 0] and kinds[6] == ["rod", 0.0375] and kinds[7] == ["rod", 0.04]
+    assert [k[0] for k in kinds[8:]] == ["box"] * 3
+    assert driver.execute_script("return phynjo.meta.bodies[8].half_extents") == pytest.approx([0.05, 0.025, 0.125], rel=1e-12)
     by_time = {float(r["t"]): r for r in points}
     columns = {"bob1": ["bob1_x", "bob1_y", "bob1_z"], "rod1": ["rod1_x1", "rod1_y1", "rod1_z1", "rod1_x2", "rod1_y2", "rod1_z2"],
                "bob2": ["bob2_x", "bob2_y", "bob2_z"], "rod2": ["rod2_x1", "rod2_y1", "rod2_z1", "rod2_x2", "rod2_y2", "rod2_z2"],
                "post": ["post_x", "post_y", "post_z"], "float": ["float_x", "float_y", "float_z"],
                "arm": ["arm_x1", "arm_y1", "arm_z1", "arm_x2", "arm_y2", "arm_z2"],
                "lever": ["lever_x1", "lever_y1", "lever_z1", "lever_x2", "lever_y2", "lever_z2"]}
+    for box in ("lid", "tilt", "crate"):
+        columns[box] = [box + "_" + c for c in ("x", "y", "z")]
     for f in (0, len(frames) // 2, len(frames) - 1):
         t = driver.execute_script("return phynjo.frameTime(arguments[0])", f)
         assert t == frames[f]
@@ -105,6 +109,10 @@ def test_the_hook_reports_the_run_and_positions_match_the_csv(pages, driver):
             want = [float(row[c]) for c in columns[name]]
             # float32: relative error at most 2^-24 (docs/viewer.md)
             assert all(abs(a - b) <= 2 ** -24 * abs(b) + 1e-30 for a, b in zip(shown, want)), (name, f, shown, want)
+            if name in ("lid", "tilt", "crate"):  # int16 quaternions: within 2^-15 of the CSV's (docs/viewer.md)
+                shown = driver.execute_script("return phynjo.orientation(arguments[0], arguments[1])", i, f)
+                want = [float(row[name + "_q" + c]) for c in "wxyz"]
+                assert all(abs(a - b) <= 2e-5 for a, b in zip(shown, want)), (name, f, shown, want)
 
 
 def test_events_and_the_stop_reason_are_on_the_page(pages, driver):

@@ -35,6 +35,10 @@ Scene make_scene(const Registry& components, const std::vector<RigidBody>& bodie
             throw std::invalid_argument("make_scene: model '" + m.name + "' has spheres but no shape functions");
         if (s.n_capsules > 0 && (!s.shape_positions || !s.capsule_jacobians || !s.capsule_radii))
             throw std::invalid_argument("make_scene: model '" + m.name + "' has capsules but no shape functions");
+        for (std::size_t k = 0; k < s.n_shapes; ++k)
+            if (s.shape_kinds[k] == ModelShape::box)
+                throw std::invalid_argument("make_scene: box '" + s.shape_names[k] + "' of model '" + m.name +
+                                            "': a model's boxes do not collide in scenes yet (its spheres and capsules do)");
         PlacedModel p;
         p.name = m.name;
         p.radii.resize(s.n_spheres);

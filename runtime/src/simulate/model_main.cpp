@@ -109,8 +109,10 @@ void help(const char* prog, const ModelCommandLine& model, const LagrangianSyste
                 "                         (a stop event ends the run at its crossing, with a last row\n"
                 "                         in the output); the model's events: %s\n"
                 "  --shapes FILE          write the model's shapes at every output row as CSV to FILE:\n"
-                "                         t, then NAME_x, NAME_y, NAME_z of each sphere's centre and\n"
-                "                         NAME_x1 … NAME_z2 of each segment's ends, m\n"
+                "                         t, then NAME_x, NAME_y, NAME_z of each sphere's centre,\n"
+                "                         NAME_x1 … NAME_z2 of each segment's or capsule's ends (m), and\n"
+                "                         NAME_x … NAME_z, NAME_qw … NAME_qz of each box's centre and\n"
+                "                         orientation quaternion\n"
                 "  --html FILE            write the run as a 3-D animation: one HTML page that plays offline\n"
                 "                         (the shapes, or the coordinates as beads; plots of q, q', E - E(0)\n"
                 "                         and the constraint residuals; the events); docs/viewer.md\n"
@@ -226,6 +228,8 @@ public:
             for (std::size_t k = 0; k < sys.n_shapes; ++k) {
                 const char* n = sys.shape_names[k].c_str();
                 if (sys.shape_kinds[k] == ModelShape::sphere) std::fprintf(shapes_file_, ",%s_x,%s_y,%s_z", n, n, n);
+                else if (sys.shape_kinds[k] == ModelShape::box)
+                    std::fprintf(shapes_file_, ",%s_x,%s_y,%s_z,%s_qw,%s_qx,%s_qy,%s_qz", n, n, n, n, n, n, n);
                 else std::fprintf(shapes_file_, ",%s_x1,%s_y1,%s_z1,%s_x2,%s_y2,%s_z2", n, n, n, n, n, n);
             }
             shape_points_.resize(sys.n_shape_values());

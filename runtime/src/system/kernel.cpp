@@ -193,11 +193,14 @@ LagrangianSystem make_system(const std::shared_ptr<const ModelKernel>& kernel, G
     }
     s.n_spheres = t.n_spheres;
     s.n_capsules = t.n_capsules;
+    s.n_boxes = t.n_boxes;
     s.shape_positions = positions(t.shape_positions);
     s.sphere_jacobians = positions(t.sphere_jacobians);
     s.sphere_radii = [kernel, k, get, f = t.sphere_radii](std::span<double> r) { k->check(f(get(), r.data())); };
     s.capsule_jacobians = positions(t.capsule_jacobians);
     s.capsule_radii = [kernel, k, get, f = t.capsule_radii](std::span<double> r) { k->check(f(get(), r.data())); };
+    s.box_jacobians = positions(t.box_jacobians);
+    s.box_half_extents = [kernel, k, get, f = t.box_half_extents](std::span<double> h) { k->check(f(get(), h.data())); };
     return s;
 }
 

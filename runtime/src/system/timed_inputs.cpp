@@ -44,6 +44,7 @@ LagrangianSystem with_timed_inputs(LagrangianSystem s, std::function<void(double
     s.shape_positions = at_time(std::move(s.shape_positions), set);
     s.sphere_jacobians = at_time(std::move(s.sphere_jacobians), set);
     s.capsule_jacobians = at_time(std::move(s.capsule_jacobians), set);
+    s.box_jacobians = at_time(std::move(s.box_jacobians), set);
     s.rhs_jacobian = at_time(std::move(s.rhs_jacobian), set);
     s.canonical_jacobian = at_time(std::move(s.canonical_jacobian), set);
     return s;

@@ -175,27 +175,42 @@ struct Recorder::Impl {
         if (times.size() * bytes_per_frame() > options.max_bytes && times.size() > 2) thin();
     }
     /// The shapes of one model as bodies (spheres; segments as thin rods, capsules as rods of
-    /// their radius) and the reader of their points from the model's q; `q_of(w, q)` fills q
-    /// from the world.
+    /// their radius; boxes oriented) and the reader of their points from the model's q;
+    /// `q_of(w, q)` fills q from the world.
     template <class QOf>
     Reader model_shapes(std::shared_ptr<const LagrangianSystem> sys, const std::string& group, QOf q_of) {
-        std::vector<double> spheres(sys->n_spheres), capsules(sys->n_capsules);
+        std::vector<double> spheres(sys->n_spheres), capsules(sys->n_capsules), boxes(3 * sys->n_boxes);
         if (sys->n_spheres > 0) sys->sphere_radii(spheres);
         if (sys->n_capsules > 0) sys->capsule_radii(capsules);
-        std::size_t sphere = 0, capsule = 0;
+        if (sys->n_boxes > 0) sys->box_half_extents(boxes);
+        std::size_t sphere = 0, capsule = 0, box = 0;
         for (std::size_t k = 0; k < sys->n_shapes; ++k) {
             const ModelShape kind = sys->shape_kinds[k];
-            const std::string name = group.empty() ? sys->shape_names[k] : group + "." + sys->shape_names[k];
-            const double r = kind == ModelShape::sphere ? spheres[sphere++] : kind == ModelShape::capsule ? capsules[capsule++] : 0.0;
-            add_body({name, kind == ModelShape::sphere ? ViewBody::Kind::sphere : ViewBody::Kind::rod, r, false,
-                      group.empty() ? "model" : group});
+            ViewBody b{group.empty() ? sys->shape_names[k] : group + "." + sys->shape_names[k], ViewBody::Kind::rod, 0.0, false,
+                       group.empty() ? "model" : group};
+            if (kind == ModelShape::sphere) b.kind = ViewBody::Kind::sphere, b.radius = spheres[sphere++];
+            if (kind == ModelShape::capsule) b.radius = capsules[capsule++];
+            if (kind == ModelShape::box) {
+                b.kind = ViewBody::Kind::box;
+                b.oriented = true;
+                for (std::size_t d = 0; d < 3; ++d) b.half_extents[d] = boxes[3 * box + d];
+                ++box;
+            }
+            add_body(std::move(b));
         }
         const std::size_t dof = sys->dof;
         return [sys, q_of, q = std::vector<double>(dof), X = std::vector<double>(sys->n_shape_values())](
                    const World& w, FrameSink& s) mutable {
             q_of(w, q);
             sys->shape_positions(w.time, q, X);
-            for (double x : X) s.positions.push_back(static_cast<float>(x));
+            std::size_t at = 0;
+            for (ModelShape kind : sys->shape_kinds) {
+                const std::size_t points = kind == ModelShape::box ? 3 : shape_values(kind);
+                for (std::size_t i = 0; i < points; ++i) s.positions.push_back(static_cast<float>(X[at + i]));
+                if (kind == ModelShape::box)
+                    for (std::size_t i = 3; i < 7; ++i) s.orientations.push_back(quantize(X[at + i]));
+                at += shape_values(kind);
+            }
         };
     }
     /// Keeps every other frame (the first among them) and doubles the interval: the page stays

@@ -3,6 +3,7 @@
 /// A checked model: what a .lag file means, as exact expressions.
 #include "phynjo/cas/expr.hpp"
 
+#include <array>
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -68,17 +69,32 @@ struct Event {
     SourceSpan where; ///< the event's name
 };
 
-/// `shape NAME: sphere R at (X, Y, Z)`, `shape NAME: segment (…) to (…)` or `shape NAME:
-/// capsule R from (…) to (…)` (docs/language.md, *Shapes*): geometry attached to the model's
-/// kinematics.
+/// A box's turn by `angle` (rad, right-handed) about the constant `axis` (any length but 0).
+struct ShapeTurn {
+    cas::Expr angle;                ///< of t, q, parameters and inputs; every `let` substituted
+    std::array<cas::Expr, 3> axis;  ///< numbers and parameters
+};
+
+/// `shape NAME: sphere R at (X, Y, Z)`, `shape NAME: segment (…) to (…)`, `shape NAME:
+/// capsule R from (…) to (…)` or `shape NAME: box (HX, HY, HZ) at (…) rotated … about (…)`
+/// (docs/language.md, *Shapes*): geometry attached to the model's kinematics.
 struct Shape {
-    enum class Kind { Sphere, Segment, Capsule };
+    enum class Kind { Sphere, Segment, Capsule, Box };
     std::string name;
     Kind kind = Kind::Sphere;
     cas::Expr radius;                   ///< a sphere's or capsule's radius (parameters and numbers), m
     std::vector<cas::Expr> points;      ///< X, Y, Z of the centre, or of both ends; every `let` substituted
-    /// 3 for a sphere's centre, 6 for the two ends of a segment or capsule.
-    [[nodiscard]] std::size_t point_values() const noexcept { return kind == Kind::Sphere ? 3 : 6; }
+    std::vector<cas::Expr> half_extents; ///< a box's (HX, HY, HZ) (parameters and numbers), m
+    std::vector<ShapeTurn> turns;        ///< a box's turns, applied in order (about world axes)
+    /// The entries of shape_positions: 3 for a sphere's centre, 6 for the two ends of a segment
+    /// or capsule, 7 for a box's centre and orientation quaternion (w, x, y, z).
+    [[nodiscard]] std::size_t point_values() const noexcept {
+        return kind == Kind::Sphere ? 3 : kind == Kind::Box ? 7 : 6;
+    }
+    /// The kind's code in the generated tables: 0 segment, 1 sphere, 2 capsule, 3 box.
+    [[nodiscard]] int code() const noexcept {
+        return kind == Kind::Segment ? 0 : kind == Kind::Sphere ? 1 : kind == Kind::Capsule ? 2 : 3;
+    }
     SourceSpan where;                   ///< the shape's name
 };
 

@@ -22,8 +22,8 @@ struct OptimizedEquations {
     std::vector<cas::Expr> guards;
     /// Per event, its resets' right sides (one pass per event).
     std::vector<std::vector<cas::Expr>> reset_values;
-    /// The shapes' points, file order: a sphere's centre (3), a segment's or capsule's ends (6)
-    /// (one pass).
+    /// The shapes' points, file order: a sphere's centre (3), a segment's or capsule's ends (6),
+    /// a box's centre and orientation quaternion (7) (one pass).
     std::vector<cas::Expr> shape_points;
     /// Per sphere, ∂(X, Y, Z)/∂q row-major 3 × dof (one pass over all spheres).
     std::vector<cas::Expr> sphere_jacobians;
@@ -33,6 +33,11 @@ struct OptimizedEquations {
     std::vector<cas::Expr> capsule_jacobians;
     /// The capsules' radii, as written.
     std::vector<cas::Expr> capsule_radii;
+    /// Per box, ∂(X, Y, Z)/∂q of its centre and the angular-velocity Jacobian J_ω (ω = J_ω q'):
+    /// row-major 6 × dof (one pass over all boxes).
+    std::vector<cas::Expr> box_jacobians;
+    /// The boxes' half extents (HX, HY, HZ), as written.
+    std::vector<cas::Expr> box_half_extents;
     /// The initial values: the coordinates', then the velocities', as written.
     std::vector<cas::Expr> initial_values;
 };

@@ -177,7 +177,18 @@ struct Capsule : x3::position_tagged {
     Expression radius;
     Point from, to;
 };
-struct Geometry : x3::variant<Sphere, Segment, Capsule> {
+/// `ANGLE about (AX, AY, AZ)`: a turn by ANGLE (rad, right-handed) about a constant axis.
+struct Rotation : x3::position_tagged {
+    Expression angle;
+    Point axis;
+};
+/// `box (HX, HY, HZ) at (X, Y, Z) [rotated ROTATION [then ROTATION]…]`: half extents, centre,
+/// and the turns applied in order (each about an axis of the world frame).
+struct Box : x3::position_tagged {
+    Point half_extents, centre;
+    std::vector<Rotation> rotations;
+};
+struct Geometry : x3::variant<Sphere, Segment, Capsule, Box> {
     using base_type::base_type;
     using base_type::operator=;
 };

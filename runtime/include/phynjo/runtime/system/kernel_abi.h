@@ -14,7 +14,7 @@
 #include <stddef.h>
 
 /* Raised when the table changes in a way an older loader cannot read. */
-#define PHYNJO_KERNEL_ABI_VERSION 2u
+#define PHYNJO_KERNEL_ABI_VERSION 3u
 #define PHYNJO_KERNEL_ENTRY "phynjo_kernel_v1"
 
 #ifdef __cplusplus
@@ -41,8 +41,8 @@ typedef struct phynjo_kernel {
     const char* model_name;
     const char* phynjo_version; /* of the phynjo-lagc that wrote the kernel */
 
-    size_t dof, n_parameters, n_inputs, n_constraints, n_events, n_shapes, n_spheres, n_capsules, n_shape_values,
-        lane_width;
+    size_t dof, n_parameters, n_inputs, n_constraints, n_events, n_shapes, n_spheres, n_capsules, n_boxes,
+        n_shape_values, lane_width;
     int mass_depends_on_velocities;
     const char* const* coordinate_names; /* dof */
     const char* const* parameter_names;  /* n_parameters: every field of Parameters, inputs among them */
@@ -56,7 +56,7 @@ typedef struct phynjo_kernel {
     const int* event_directions;               /* n_events: -1 falling, +1 rising */
     const unsigned char* event_stops;          /* n_events */
     const char* const* shape_names;            /* n_shapes */
-    const unsigned char* shape_kinds;          /* n_shapes: 0 segment, 1 sphere, 2 capsule */
+    const unsigned char* shape_kinds;          /* n_shapes: 0 segment, 1 sphere, 2 capsule, 3 box */
 
     /* Parameters: an opaque object at the file's defaults; set fixes a value (a derived one
      * stops following); get reads the value set, or the file's default. */
@@ -72,7 +72,7 @@ typedef struct phynjo_kernel {
     phynjo_state_fn forcing, accelerations, momenta, generalized_forces;
     phynjo_state_fn constraint_residuals, constraint_velocity_residuals, constraint_scales, constraint_gamma;
     phynjo_state_fn rhs_jacobian, input_jacobian, event_guards;
-    phynjo_positions_fn constraint_matrix, shape_positions, sphere_jacobians, capsule_jacobians;
+    phynjo_positions_fn constraint_matrix, shape_positions, sphere_jacobians, capsule_jacobians, box_jacobians;
     int (*energy)(const void* P, double t, const double* q, const double* qdot, double* E);
     int (*accelerations_and_multipliers)(const void* P, double t, const double* q, const double* qdot, double* qddot,
                                          double* lambda);
@@ -89,6 +89,7 @@ typedef struct phynjo_kernel {
     int (*apply_event)(const void* P, size_t k, double t, double* q, double* qdot);
     int (*sphere_radii)(const void* P, double* r);
     int (*capsule_radii)(const void* P, double* r);
+    int (*box_half_extents)(const void* P, double* h); /* 3 n_boxes */
     const char* (*last_error)(void);
 } phynjo_kernel;
 

@@ -28,9 +28,13 @@ enum class ModelShape : unsigned char {
     segment = 0, ///< two ends (6 entries of shape_positions), drawn only
     sphere = 1,  ///< a centre (3 entries), collides; sphere_jacobians, sphere_radii
     capsule = 2, ///< two ends (6 entries), collides; capsule_jacobians, capsule_radii
+    box = 3,     ///< centre and orientation quaternion w, x, y, z (7 entries); box_jacobians, box_half_extents
 };
-/// The entries of shape_positions a shape of this kind fills: 3 for a sphere, 6 otherwise.
-[[nodiscard]] constexpr std::size_t shape_values(ModelShape kind) noexcept { return kind == ModelShape::sphere ? 3 : 6; }
+/// The entries of shape_positions a shape of this kind fills: 3 for a sphere, 7 for a box, 6
+/// otherwise.
+[[nodiscard]] constexpr std::size_t shape_values(ModelShape kind) noexcept {
+    return kind == ModelShape::sphere ? 3 : kind == ModelShape::box ? 7 : 6;
+}
 
 /// A generated model seen through std::function: what the integrators below need.
 struct LagrangianSystem {
@@ -128,8 +132,9 @@ struct LagrangianSystem {
     std::vector<std::string> shape_names;
     /// Per shape, its kind.
     std::vector<ModelShape> shape_kinds;
-    std::size_t n_spheres = 0, n_capsules = 0;
-    /// Centres of spheres and ends of segments and capsules, file order (3 or 6 entries each), m.
+    std::size_t n_spheres = 0, n_capsules = 0, n_boxes = 0;
+    /// Centres of spheres, ends of segments and capsules (m), boxes' centres (m) and orientation
+    /// quaternions (w, x, y, z): file order, shape_values(kind) entries each.
     std::function<void(double t, std::span<const double> q, std::span<double> X)> shape_positions;
     /// Each sphere's ∂(X, Y, Z)/∂q: 3×dof, row-major, spheres in file order.
     std::function<void(double t, std::span<const double> q, std::span<double> J)> sphere_jacobians;
@@ -140,6 +145,11 @@ struct LagrangianSystem {
     std::function<void(double t, std::span<const double> q, std::span<double> J)> capsule_jacobians;
     /// The capsules' radii, m.
     std::function<void(std::span<double> r)> capsule_radii;
+    /// Each box's ∂(X, Y, Z)/∂q of its centre (rows 0–2) and its angular-velocity Jacobian
+    /// (rows 3–5: ω = J_ω q', rad/s, world frame): 6×dof, row-major, boxes in file order.
+    std::function<void(double t, std::span<const double> q, std::span<double> J)> box_jacobians;
+    /// The boxes' half extents (HX, HY, HZ) along the box's own axes, m: 3 per box.
+    std::function<void(std::span<double> h)> box_half_extents;
     /// The number of entries of shape_positions: Σ shape_values(kind).
     [[nodiscard]] std::size_t n_shape_values() const noexcept {
         std::size_t n = 0;
