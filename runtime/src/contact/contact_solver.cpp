@@ -42,7 +42,7 @@ double Solver::curve(const MaterialCurve& c, double speed, bool restitution) con
 
 void Solver::gather(const World& w) {
     const std::size_t n = ids_.size();
-    bodies_.resize(n + 1 + n_capsules_); // then the static body, then the model capsules
+    bodies_.resize(n + 1 + n_capsules_ + n_boxes_); // then the static body, the model capsules and boxes
     for (std::size_t k = 0; k < n_rigid_; ++k) {
         const Index i = ids_[k];
         Body& b = bodies_[k];
@@ -84,7 +84,7 @@ void Solver::anchors(const Row& c, double* xa, double* xb) const {
         return;
     }
     const Body& B = bodies_[c.b];
-    if (B.model >= 0) { // a model side: its point at sb, offset to the surface
+    if (B.model >= 0 && B.shape != Shape::box) { // a model side: its point at sb, offset to the surface
         double t[3];
         const double* x = at_fraction(B, c.sb, false, t);
         for (int k = 0; k < 3; ++k) xb[k] = x[k] + c.lb[k];
@@ -104,7 +104,7 @@ void Solver::apply_point(const Row& c, const double* p, std::vector<Body>& B) {
     for (int k = 0; k < 3; ++k) A.w[k] += i[k];
     if (Bb.model >= 0) { // −P on the model at its point sb
         const double q[3] = {-p[0], -p[1], -p[2]};
-        model_impulse(Bb, q, B, false, c.sb);
+        model_impulse(Bb, q, B, false, c.sb, is_model_box(Bb) ? c.xb : nullptr);
         return;
     }
     for (int k = 0; k < 3; ++k) Bb.v[k] -= Bb.im * p[k];
@@ -152,8 +152,9 @@ void Solver::correct_positions() {
     const bool jacobi = options_.scheme == ContactScheme::jacobi;
     const std::size_t nb = ids_.size();
     for (int it = 0; it < options_.position_iterations; ++it) {
-        if (jacobi) delta_.assign(3 * nb, 0.0);
-        if (jacobi && shape_field_ >= 0) turn_.assign(3 * nb, 0.0);
+        // (and the static body's, side a of a model box's rows against a plane: never applied)
+        if (jacobi) delta_.assign(3 * (nb + 1), 0.0);
+        if (jacobi && (shape_field_ >= 0 || n_boxes_ > 0)) turn_.assign(3 * (nb + 1), 0.0);
         bool any = false;
         std::size_t block = 0;
         for (std::size_t i = 0; i < rows_.size(); ++i) {
@@ -185,7 +186,8 @@ void Solver::correct_positions() {
                 cross(ra, n, ua);
                 cross(rb, n, ub);
                 if (Bb.model >= 0) { // a model side b: uᵀ A(s) u, and its correction through B(s)
-                    const double k_inv = A.im + quad(A.ii, ua) + linear_inverse_mass(Bb, n, c.sb);
+                    const double* arm = is_model_box(Bb) ? rb : nullptr;
+                    const double k_inv = A.im + quad(A.ii, ua) + linear_inverse_mass(Bb, n, c.sb, arm);
                     if (!(k_inv > kSingularInverseMass * (A.im + inverse_mass_scale(Bb)))) continue;
                     const double corr = beta * depth / k_inv;
                     double ta[3];
@@ -200,7 +202,7 @@ void Solver::correct_positions() {
                         for (int k = 0; k < 3; ++k) A.p[k] += corr * A.im * n[k];
                         rotate_by(A.q, ta);
                     }
-                    position_impulse(Bb, c.b, -corr, n, jacobi, c.sb);
+                    position_impulse(Bb, c.b, -corr, n, jacobi, c.sb, arm);
                     continue;
                 }
                 // (A plane's static body has no inverse mass or inertia: its terms vanish.)
@@ -265,10 +267,11 @@ void Solver::correct_positions() {
     }
 }
 
-void Solver::position_impulse(const Body& X, std::size_t index, double corr, const double* n, bool jacobi, double s) {
+void Solver::position_impulse(const Body& X, std::size_t index, double corr, const double* n, bool jacobi, double s,
+                              const double* arm) {
     const double l[3] = {corr * n[0], corr * n[1], corr * n[2]};
-    if (is_model_capsule(X)) {
-        model_impulse(X, l, bodies_, true, s);
+    if (is_model_capsule(X) || is_model_box(X)) { // at once, also under Jacobi: its point moves with the model
+        model_impulse(X, l, bodies_, true, s, arm);
         return;
     }
     if (X.model < 0) { // a rigid body moves by l/m
@@ -308,7 +311,8 @@ void Solver::setup_rows(double dt) {
             for (int k = 0; k < 3; ++k) {
                 const double mid = 0.5 * (xa[k] + xb[k]);
                 c.xa[k] = mid - A.p[k];
-                c.xb[k] = c.plane >= 0 || B.model >= 0 ? 0.0 : mid - B.p[k]; // a model side does not spin
+                // a model sphere or capsule does not spin; a model box does
+                c.xb[k] = c.plane >= 0 || (B.model >= 0 && B.shape != Shape::box) ? 0.0 : mid - B.p[k];
             }
             c.ra = c.rb = 0;
             c.sep = (xa[0] - xb[0]) * c.n[0] + (xa[1] - xb[1]) * c.n[1] + (xa[2] - xb[2]) * c.n[2];
@@ -318,7 +322,7 @@ void Solver::setup_rows(double dt) {
                 auto inverse_mass = [&](const double* u) {
                     double ua[3];
                     cross(c.xa, u, ua);
-                    const double k = sa * (A.im + quad(A.ii, ua)) + sb * linear_inverse_mass(B, u, c.sb);
+                    const double k = sa * (A.im + quad(A.ii, ua)) + sb * linear_inverse_mass(B, u, c.sb, is_model_box(B) ? c.xb : nullptr);
                     return k > floor ? 1 / k : 0.0;
                 };
                 c.mn = inverse_mass(c.n);

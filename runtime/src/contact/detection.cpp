@@ -100,6 +100,44 @@ void Solver::detect(const World& w, double dt) {
         sphere_plane_contacts(w, ids_, planes_, std::span<const double>(margins_), contacts_);
     spheres_to_rows(w);
     if (n_capsules_ > 0) capsule_rows(dt);
+    if (n_boxes_ > 0) {
+        point_rows_.clear();
+        model_box_rows(dt);
+        rows_.insert(rows_.end(), point_rows_.begin(), point_rows_.end());
+    }
+}
+
+void Solver::model_box_rows(double dt) {
+    const bool uniform = options_.margin >= 0;
+    const auto stat = static_cast<std::uint32_t>(ids_.size());
+    Manifold m;
+    const std::uint32_t first = stat + 1 + static_cast<std::uint32_t>(n_capsules_);
+    for (std::uint32_t k = first; k < first + n_boxes_; ++k) {
+        const Body& X = bodies_[k];
+        // The margin of a model box as detect's of a rigid one, at its fastest corner.
+        const double size = std::min({X.h[0], X.h[1], X.h[2]});
+        const double reach = std::sqrt(dot(X.h, X.h));
+        const double speed = std::sqrt(dot(X.v, X.v)) + std::sqrt(dot(X.w, X.w)) * reach;
+        const double mx = uniform ? 0.5 * options_.margin : std::min(size, std::max(2 * speed * dt, std::max(options_.slop, 0.02 * size)));
+        for (std::size_t i = 0; i < planes_.size(); ++i) { // the static body as side a, at the plane's points
+            if (!collide_plane(X, planes_[i], mx, m)) continue;
+            m.flip(); // the model box is side b
+            add_model_manifold(m, stat, k, nullptr);
+        }
+        const Eigen::Vector3d c(X.p[0], X.p[1], X.p[2]);
+        for (std::uint32_t j = 0; j < n_rigid_; ++j) {
+            const Body& A = bodies_[j];
+            const double ma = uniform ? 0.5 * options_.margin : margins_[j];
+            // a bounding sphere of each: enough to skip the far ones
+            const double ra = A.shape == Shape::sphere ? A.r : std::sqrt(dot(A.h, A.h)) + A.r;
+            const double d[3] = {A.p[0] - c.x(), A.p[1] - c.y(), A.p[2] - c.z()};
+            const double within = ra + reach + ma + mx;
+            if (dot(d, d) > within * within) continue;
+            if (A.shape == Shape::sphere && !(A.r > 0)) continue;
+            if (!collide(A, X, ma + mx, m)) continue; // normal from the model box towards A
+            add_model_manifold(m, j, k, nullptr);
+        }
+    }
 }
 
 void Solver::capsule_rows(double dt) {
@@ -248,6 +286,7 @@ void Solver::detect_shapes(const World& w, double dt) {
     if (!models_.empty()) model_sphere_contacts();
     spheres_to_rows(w);
     if (n_capsules_ > 0) capsule_rows(dt);
+    if (n_boxes_ > 0) model_box_rows(dt);
     rows_.insert(rows_.end(), point_rows_.begin(), point_rows_.end());
 }
 
@@ -315,6 +354,10 @@ void Solver::add_model_manifold(const Manifold& m, std::uint32_t a, std::uint32_
         double t[3];
         const double* x = at_fraction(B, r.sb, false, t); // the model's point behind on_b
         for (int i = 0; i < 3; ++i) r.la[i] = la(i), r.lb[i] = p.on_b(i) - x[i];
+        if (B.shape == Shape::box) { // a model box: in its frame, as a rigid body's (it turns)
+            const Eigen::Vector3d lb = Quaternion{B.q[0], B.q[1], B.q[2], B.q[3]}.rotate_inverse(Eigen::Vector3d(r.lb[0], r.lb[1], r.lb[2]));
+            for (int i = 0; i < 3; ++i) r.lb[i] = lb(i);
+        }
         r.sep = p.separation;
         r.slot = -1;
         r.block_size = 1; // each point its own row: the model side has no block

@@ -18,8 +18,8 @@ void store_symmetric(const double (&a)[3][3], double* A) {
 
 void Solver::gather_model(const World& w, ModelScratch& m, std::size_t index) {
     const LagrangianSystem& s = *m.placed.system;
-    const std::size_t n = s.dof, ns = m.placed.spheres.size(), nk = m.placed.ends.size(), nb = 3 * (ns + 2 * nk),
-                      nc = s.n_constraints;
+    const std::size_t n = s.dof, ns = m.placed.spheres.size(), nk = m.placed.ends.size(), nx = m.placed.boxes.size(),
+                      nb = 3 * (ns + 2 * nk) + 6 * nx, nc = s.n_constraints;
     for (std::size_t i = 0; i < n; ++i) {
         m.q[i] = w.at(q_field_, m.placed.coordinates[i]);
         m.qd[i] = w.at(qd_field_, m.placed.coordinates[i]);
@@ -30,8 +30,11 @@ void Solver::gather_model(const World& w, ModelScratch& m, std::size_t index) {
     m.sync.q = m.q; // sizes fixed: no allocation
     m.sync.qd = m.qd;
     sphere_states(m.placed, t, m.sync); // centres, ends, velocities, J and Jc (row-major)
-    // Row c of the points' Jacobian: the spheres' 3·ns rows, then the capsules' 6 each.
-    auto jrow = [&](std::size_t c) { return c < 3 * ns ? &m.sync.J[c * n] : &m.sync.Jc[(c - 3 * ns) * n]; };
+    // Row c of the points' Jacobian: the spheres' 3·ns rows, then the capsules' 6 each, then
+    // the boxes' 6 each (centre, spin).
+    auto jrow = [&](std::size_t c) {
+        return c < 3 * ns ? &m.sync.J[c * n] : c < 3 * ns + 6 * nk ? &m.sync.Jc[(c - 3 * ns) * n] : &m.sync.Jb[(c - 3 * ns - 6 * nk) * n];
+    };
     s.mass_matrix(t, m.q, m.qd, m.M);
     if (!cholesky(m.M.data(), n))
         throw Error("contact: the mass matrix of model '" + m.placed.name + "' is not positive definite at t = " +
@@ -116,12 +119,50 @@ void Solver::gather_model(const World& w, ModelScratch& m, std::size_t index) {
             b.v2[d] = m.sync.EV[6 * k + 3 + d];
         }
     }
+    for (std::size_t k = 0; k < nx; ++k) {
+        // A_box = G B_box, G the box's 6 rows (centre, spin): its generalised inverse mass
+        const std::size_t c0 = 3 * (ns + 2 * nk) + 6 * k;
+        double* A = &m.A[6 * ns + 18 * nk + 36 * k];
+        for (std::size_t r = 0; r < 6; ++r)
+            for (std::size_t c = 0; c < 6; ++c) {
+                const double* row = jrow(c0 + r);
+                double v = 0;
+                for (std::size_t i = 0; i < n; ++i) v += row[i] * m.B[i * nb + c0 + c];
+                A[6 * r + c] = v;
+            }
+        for (std::size_t r = 0; r < 6; ++r) // symmetric up to round-off
+            for (std::size_t c = r + 1; c < 6; ++c) A[6 * r + c] = A[6 * c + r] = 0.5 * (A[6 * r + c] + A[6 * c + r]);
+        Body& b = bodies_[m.first_box + k];
+        b = Body{};
+        b.model = static_cast<int>(index);
+        b.sphere = static_cast<int>(k);
+        b.shape = Shape::box;
+        for (std::size_t d = 0; d < 3; ++d) {
+            b.p[d] = m.sync.BX[7 * k + d];
+            b.v[d] = m.sync.BV[6 * k + d];
+            b.w[d] = m.sync.BV[6 * k + 3 + d];
+            b.h[d] = m.placed.box_half_extents[3 * k + d];
+        }
+        for (std::size_t d = 0; d < 4; ++d) b.q[d] = m.sync.BX[7 * k + 3 + d];
+    }
 }
 
-void Solver::model_impulse(const Body& X, const double* lambda, std::vector<Body>& B, bool position, double s) {
+void Solver::model_impulse(const Body& X, const double* lambda, std::vector<Body>& B, bool position, double s,
+                           const double* arm) {
     ModelScratch& m = models_[static_cast<std::size_t>(X.model)];
-    const std::size_t n = m.q.size(), ns = m.placed.spheres.size(), nk = m.placed.ends.size(), nb = 3 * (ns + 2 * nk);
-    if (X.shape == Shape::capsule) { // B(s) Λ = (1 − s) B₁ Λ + s B₂ Λ
+    const std::size_t n = m.q.size(), ns = m.placed.spheres.size(), nk = m.placed.ends.size(), nx = m.placed.boxes.size(),
+                      nb = 3 * (ns + 2 * nk) + 6 * nx;
+    if (X.shape == Shape::box) { // B_box (Λ, arm × Λ)
+        double g[6] = {lambda[0], lambda[1], lambda[2], 0, 0, 0};
+        if (arm != nullptr) cross(arm, lambda, g + 3);
+        const std::size_t c = 3 * (ns + 2 * nk) + 6 * static_cast<std::size_t>(X.sphere);
+        for (std::size_t i = 0; i < n; ++i) {
+            const double* row = &m.B[i * nb + c];
+            double d = 0;
+            for (int e = 0; e < 6; ++e) d += row[e] * g[e];
+            m.dq[i] = d;
+        }
+    } else if (X.shape == Shape::capsule) { // B(s) Λ = (1 − s) B₁ Λ + s B₂ Λ
         const std::size_t c = 3 * ns + 6 * static_cast<std::size_t>(X.sphere);
         for (std::size_t i = 0; i < n; ++i) {
             const double* row = &m.B[i * nb + c];
@@ -156,6 +197,20 @@ void Solver::model_impulse(const Body& X, const double* lambda, std::vector<Body
             for (std::size_t i = 0; i < n; ++i) d += row[i] * m.dq[i];
             out[e / 3][e % 3] += d;
         }
+    }
+    for (std::size_t j = 0; j < nx; ++j) { // a box's centre moves, and it turns by J_ω Δq
+        Body& b = B[m.first_box + j];
+        double d6[6];
+        for (std::size_t e = 0; e < 6; ++e) {
+            const double* row = &m.sync.Jb[(6 * j + e) * n];
+            double d = 0;
+            for (std::size_t i = 0; i < n; ++i) d += row[i] * m.dq[i];
+            d6[e] = d;
+        }
+        for (int d = 0; d < 3; ++d) (position ? b.p : b.v)[d] += d6[d];
+        if (position) rotate_by(b.q, d6 + 3);
+        else
+            for (int d = 0; d < 3; ++d) b.w[d] += d6[3 + d];
     }
 }
 

@@ -35,26 +35,35 @@ Scene make_scene(const Registry& components, const std::vector<RigidBody>& bodie
             throw std::invalid_argument("make_scene: model '" + m.name + "' has spheres but no shape functions");
         if (s.n_capsules > 0 && (!s.shape_positions || !s.capsule_jacobians || !s.capsule_radii))
             throw std::invalid_argument("make_scene: model '" + m.name + "' has capsules but no shape functions");
-        for (std::size_t k = 0; k < s.n_shapes; ++k)
-            if (s.shape_kinds[k] == ModelShape::box)
-                throw std::invalid_argument("make_scene: box '" + s.shape_names[k] + "' of model '" + m.name +
-                                            "': a model's boxes do not collide in scenes yet (its spheres and capsules do)");
+        if (s.n_boxes > 0 && (!s.shape_positions || !s.box_jacobians || !s.box_half_extents))
+            throw std::invalid_argument("make_scene: model '" + m.name + "' has boxes but no shape functions");
         PlacedModel p;
         p.name = m.name;
         p.radii.resize(s.n_spheres);
         if (s.n_spheres > 0) s.sphere_radii(p.radii);
         p.capsule_radii.resize(s.n_capsules);
         if (s.n_capsules > 0) s.capsule_radii(p.capsule_radii);
+        p.box_half_extents.resize(3 * s.n_boxes);
+        if (s.n_boxes > 0) s.box_half_extents(p.box_half_extents);
         std::size_t offset = 0;
         for (std::size_t k = 0; k < s.n_shapes; ++k) {
             const ModelShape kind = s.shape_kinds[k];
-            if (kind != ModelShape::segment) { // a sphere or capsule collides: its radius must be positive
+            if (kind == ModelShape::sphere || kind == ModelShape::capsule) { // its radius must be positive
                 const bool sphere = kind == ModelShape::sphere;
                 const double r = sphere ? p.radii[p.spheres.size()] : p.capsule_radii[p.ends.size()];
                 if (!(r > 0) || !std::isfinite(r))
                     throw std::invalid_argument(std::string("make_scene: ") + (sphere ? "sphere '" : "capsule '") +
                                                 s.shape_names[k] + "' of model '" + m.name + "' has radius " +
                                                 std::to_string(r) + " m; it must be positive");
+            }
+            if (kind == ModelShape::box) {
+                for (std::size_t d = 0; d < 3; ++d) {
+                    const double h = p.box_half_extents[3 * p.boxes.size() + d];
+                    if (!(h > 0) || !std::isfinite(h))
+                        throw std::invalid_argument("make_scene: box '" + s.shape_names[k] + "' of model '" + m.name +
+                                                    "' has half extent " + std::to_string(h) + " m; it must be positive");
+                }
+                p.boxes.push_back(offset);
             }
             if (kind == ModelShape::capsule) p.ends.push_back(offset);
             if (kind == ModelShape::sphere) {
@@ -128,16 +137,18 @@ std::vector<double> model_qdot(const Scene& scene, std::size_t k) {
 
 void sphere_states(const PlacedModel& p, double t, SphereSync& s) {
     const LagrangianSystem& sys = *p.system;
-    const std::size_t n = sys.dof, ns = p.spheres.size(), nk = p.ends.size();
+    const std::size_t n = sys.dof, ns = p.spheres.size(), nk = p.ends.size(), nb = p.boxes.size();
     const std::size_t nx = sys.n_shape_values();
     s.X.resize(nx), s.Xp.resize(nx), s.Xm.resize(nx), s.J.resize(3 * ns * n), s.P.resize(3 * ns), s.V.resize(3 * ns);
     s.Jc.resize(6 * nk * n), s.E.resize(6 * nk), s.EV.resize(6 * nk);
+    s.Jb.resize(6 * nb * n), s.BX.resize(7 * nb), s.BV.resize(6 * nb);
     const double h = 6e-6 * std::max(1.0, std::abs(t));
     sys.shape_positions(t, s.q, s.X);
     sys.shape_positions(t + h, s.q, s.Xp);
     sys.shape_positions(t - h, s.q, s.Xm);
     if (ns > 0) sys.sphere_jacobians(t, s.q, s.J);
     if (nk > 0) sys.capsule_jacobians(t, s.q, s.Jc);
+    if (nb > 0) sys.box_jacobians(t, s.q, s.Jb);
     // X at offset x: the position, and the velocity J q' + ∂X/∂t from Jacobian row `row`
     auto point = [&](std::size_t x, const double* row, double& P, double& V) {
         double v = (s.Xp[x] - s.Xm[x]) / (2 * h);
@@ -149,6 +160,25 @@ void sphere_states(const PlacedModel& p, double t, SphereSync& s) {
         for (std::size_t a = 0; a < 3; ++a) point(p.centre[j] + a, &s.J[(3 * j + a) * n], s.P[3 * j + a], s.V[3 * j + a]);
     for (std::size_t k = 0; k < nk; ++k)
         for (std::size_t a = 0; a < 6; ++a) point(p.ends[k] + a, &s.Jc[(6 * k + a) * n], s.E[6 * k + a], s.EV[6 * k + a]);
+    for (std::size_t k = 0; k < nb; ++k) {
+        const std::size_t x = p.boxes[k];
+        for (std::size_t a = 0; a < 3; ++a) point(x + a, &s.Jb[(6 * k + a) * n], s.BX[7 * k + a], s.BV[6 * k + a]);
+        // ω = J_ω q' + ω_t, ω_t = 2 vec(q_t ⊗ q̄) for a box turned by t or an input
+        const double* q = &s.X[x + 3];
+        double qt[4];
+        for (std::size_t i = 0; i < 4; ++i) {
+            s.BX[7 * k + 3 + i] = q[i];
+            qt[i] = (s.Xp[x + 3 + i] - s.Xm[x + 3 + i]) / (2 * h);
+        }
+        const double wt[3] = {2 * (-qt[0] * q[1] + qt[1] * q[0] - qt[2] * q[3] + qt[3] * q[2]),
+                              2 * (-qt[0] * q[2] + qt[1] * q[3] + qt[2] * q[0] - qt[3] * q[1]),
+                              2 * (-qt[0] * q[3] - qt[1] * q[2] + qt[2] * q[1] + qt[3] * q[0])};
+        for (std::size_t a = 0; a < 3; ++a) {
+            double v = wt[a];
+            for (std::size_t i = 0; i < n; ++i) v += s.Jb[(6 * k + 3 + a) * n + i] * s.qd[i];
+            s.BV[6 * k + 3 + a] = v;
+        }
+    }
 }
 
 void sync_model_spheres(const PlacedModel& p, FieldId qf, FieldId qdf, double t, World& w, SphereSync& s) {

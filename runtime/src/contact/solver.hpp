@@ -63,6 +63,8 @@ struct Body {
 
 /// Whether X is a model capsule (its rows are at a point s along it: Row::sa, sb).
 inline bool is_model_capsule(const Body& X) { return X.model >= 0 && X.shape == Shape::capsule; }
+/// Whether X is a model box (it spins: its rows have lever arms, its impulses are wrenches).
+inline bool is_model_box(const Body& X) { return X.model >= 0 && X.shape == Shape::box; }
 /// The position (p2 = false: p, v) or velocity of X's point at s: a model capsule's
 /// (1 − s) x₁ + s x₂, else X's own.
 inline const double* at_fraction(const Body& X, double s, bool velocity, double* tmp) {
@@ -80,8 +82,10 @@ struct ModelScratch {
     PlacedModel placed;
     std::size_t first = 0;         // scratch index of its first sphere
     std::size_t first_capsule = 0; // scratch index of its first capsule (after the static body)
+    std::size_t first_box = 0;     // scratch index of its first box (after every capsule)
     std::vector<double> q, qd, dq;
-    // 6 per sphere, then 18 per capsule (A₁₁, A₂₂, sym A₁₂): xx, yy, zz, xy, xz, yz each
+    // 6 per sphere, then 18 per capsule (A₁₁, A₂₂, sym A₁₂): xx, yy, zz, xy, xz, yz each; then
+    // 36 per box: G B_box (6 × 6 row-major, symmetrised) with G its centre's and spin's Jacobian
     std::vector<double> A;
     // Row-major: M (n × n, then its Cholesky factor), B (n × 3·points), and for constraints
     // G (nc × n), M⁻¹Gᵀ (n × nc), S = G M⁻¹ Gᵀ (nc × nc, then its factor), G B. The points'
@@ -269,23 +273,29 @@ public:
             q_field_ = scene->q;
             qd_field_ = scene->qd;
             for (const PlacedModel& p : scene->models) {
-                if (p.spheres.empty() && p.ends.empty()) continue;
+                if (p.spheres.empty() && p.ends.empty() && p.boxes.empty()) continue;
                 ModelScratch m;
                 m.placed = p;
                 m.first = ids_.size();
                 m.first_capsule = n_capsules_; // made absolute once ids_ is complete
+                m.first_box = n_boxes_;
                 const LagrangianSystem& s = *p.system;
-                const std::size_t n = s.dof, ns = p.spheres.size(), nk = p.ends.size(), np = ns + 2 * nk;
+                const std::size_t n = s.dof, ns = p.spheres.size(), nk = p.ends.size(), nx = p.boxes.size();
+                const std::size_t np = 3 * (ns + 2 * nk) + 6 * nx; // B's columns
                 m.q.resize(n), m.qd.resize(n), m.dq.resize(n);
-                m.A.resize(6 * ns + 18 * nk);
+                m.A.resize(6 * ns + 18 * nk + 36 * nx);
                 const std::size_t nc = s.n_constraints;
-                m.M.resize(n * n), m.B.resize(n * 3 * np);
-                m.G.resize(nc * n), m.MinvGt.resize(n * nc), m.S.resize(nc * nc), m.GB.resize(nc * 3 * np);
+                m.M.resize(n * n), m.B.resize(n * np);
+                m.G.resize(nc * n), m.MinvGt.resize(n * nc), m.S.resize(nc * nc), m.GB.resize(nc * np);
                 ids_.insert(ids_.end(), p.spheres.begin(), p.spheres.end());
                 n_capsules_ += nk;
+                n_boxes_ += nx;
                 models_.push_back(std::move(m));
             }
-            for (ModelScratch& m : models_) m.first_capsule += ids_.size() + 1;
+            for (ModelScratch& m : models_) {
+                m.first_capsule += ids_.size() + 1;
+                m.first_box += ids_.size() + 1 + n_capsules_;
+            }
         }
         for (int k = 0;; ++k) {
             const std::string s = std::to_string(k);
@@ -305,8 +315,8 @@ public:
         // a scene beyond that grows it once.
         const std::size_t n = ids_.size();
         const std::size_t contacts = n * (kReservedContactsPerBody + planes_.size());
-        bodies_.reserve(n + 1 + n_capsules_);
-        snapshot_.reserve(n + 1 + n_capsules_);
+        bodies_.reserve(n + 1 + n_capsules_ + n_boxes_);
+        snapshot_.reserve(n + 1 + n_capsules_ + n_boxes_);
         spheres_.reserve(n);
         margins_.reserve(n);
         contacts_.reserve(contacts);
@@ -341,6 +351,9 @@ private:
     /// capsules (at the closest points), within the margins; against rigid boxes and capsules
     /// point rows (side b).
     void capsule_rows(double dt);
+    /// Point rows of the models' boxes (side b) against planes (the static body as side a) and
+    /// rigid bodies.
+    void model_box_rows(double dt);
     /// detect_shapes' part for the models' spheres: against the rigid bodies (sphere rows with
     /// spheres, point rows with boxes and capsules), other models' spheres and the planes.
     void model_sphere_contacts();
@@ -367,7 +380,8 @@ private:
     void correct_positions();
     /// Position correction corr·n on one side of a row with a model sphere (rigid or model); at
     /// fraction s of a model capsule, applied at once (also under Jacobi: its points differ).
-    void position_impulse(const Body& X, std::size_t index, double corr, const double* n, bool jacobi, double s);
+    void position_impulse(const Body& X, std::size_t index, double corr, const double* n, bool jacobi, double s,
+                          const double* arm = nullptr);
     void setup_rows(double dt);
     void warm_start(const World& w);
     void find_slots(const World& w);
@@ -435,19 +449,32 @@ private:
     std::vector<Block> pos_blocks_; // correct_positions: K of each manifold, once a step
     std::size_t n_rigid_ = 0; // ids_: the rigid bodies, then the models' spheres
     std::size_t n_capsules_ = 0; // the models' capsules: scratch bodies after the static body
+    std::size_t n_boxes_ = 0;    // the models' boxes: scratch bodies after the capsules
 
     void gather_model(const World& w, ModelScratch& m, std::size_t index);
     void scatter_model(World& w, ModelScratch& m);
     /// Λ on model sphere X (at fraction s of a model capsule): q' += B_s Λ and every sphere and
     /// capsule end of the model follows (velocity level), or q += B_s Λ and the points follow
     /// (position level).
-    void model_impulse(const Body& X, const double* lambda, std::vector<Body>& B, bool position, double s = 0);
+    /// Λ on X (a model sphere, capsule at s, or box at the lever arm `arm` from its centre: the
+    /// wrench (Λ, arm × Λ)) as Δq' (Δq when `position`), every point of the model followed.
+    void model_impulse(const Body& X, const double* lambda, std::vector<Body>& B, bool position, double s = 0,
+                       const double* arm = nullptr);
     /// The translational inverse mass of X along u: 1/m, uᵀ A_s u for a model sphere, uᵀ A(s) u
     /// at fraction s of a model capsule (file comment).
-    double linear_inverse_mass(const Body& X, const double* u, double s = 0) const {
+    double linear_inverse_mass(const Body& X, const double* u, double s = 0, const double* arm = nullptr) const {
         if (X.model < 0) return X.im;
         const ModelScratch& m = models_[static_cast<std::size_t>(X.model)];
         const auto j = static_cast<std::size_t>(X.sphere);
+        if (X.shape == Shape::box) { // gᵀ A_box g, g = (u, arm × u)
+            const double* a = &m.A[6 * m.placed.spheres.size() + 18 * m.placed.ends.size() + 36 * j];
+            double g[6] = {u[0], u[1], u[2], 0, 0, 0};
+            if (arm != nullptr) cross(arm, u, g + 3);
+            double k = 0;
+            for (int r = 0; r < 6; ++r)
+                for (int c = 0; c < 6; ++c) k += g[r] * a[6 * r + c] * g[c];
+            return k;
+        }
         if (X.shape != Shape::capsule) return quad(&m.A[6 * j], u);
         const double* a = &m.A[6 * m.placed.spheres.size() + 18 * j];
         return (1 - s) * (1 - s) * quad(a, u) + s * s * quad(a + 6, u) + 2 * s * (1 - s) * quad(a + 12, u);
@@ -458,6 +485,10 @@ private:
         if (X.model < 0) return X.im;
         const ModelScratch& m = models_[static_cast<std::size_t>(X.model)];
         const auto j = static_cast<std::size_t>(X.sphere);
+        if (X.shape == Shape::box) {
+            const double* a = &m.A[6 * m.placed.spheres.size() + 18 * m.placed.ends.size() + 36 * j];
+            return a[0] + a[7] + a[14];
+        }
         if (X.shape != Shape::capsule) return m.A[6 * j] + m.A[6 * j + 1] + m.A[6 * j + 2];
         const double* a = &m.A[6 * m.placed.spheres.size() + 18 * j];
         return a[0] + a[1] + a[2] + a[6] + a[7] + a[8];

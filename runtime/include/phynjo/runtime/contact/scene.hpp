@@ -56,6 +56,9 @@ struct PlacedModel {
     /// Its capsules (no proxy in the world: a contact finds the point on the segment each step).
     std::vector<std::size_t> ends;      ///< offset of each capsule's first end in shape_positions' output
     std::vector<double> capsule_radii;  ///< m
+    /// Its boxes (no proxy either: a box's pose is its model's kinematics).
+    std::vector<std::size_t> boxes;     ///< offset of each box's centre in shape_positions' output
+    std::vector<double> box_half_extents; ///< 3 per box, m
 };
 
 /// A world with rigid bodies and model instances (file comment).
@@ -88,10 +91,13 @@ struct SphereSync {
     std::vector<double> P, V; ///< the spheres' centres and velocities, 3 per sphere
     std::vector<double> Jc;   ///< capsule_jacobians: 6 rows (both ends) per capsule
     std::vector<double> E, EV; ///< the capsules' ends and their velocities, 6 per capsule
+    std::vector<double> Jb;   ///< box_jacobians: 6 rows (centre, then ω) per box
+    std::vector<double> BX, BV; ///< the boxes' centres and quaternions (7 per box); v and ω (6 per box)
 };
 /// From s.q, s.qd at time t: s.J (sphere_jacobians), s.P = the sphere centres X_s(t, q),
 /// s.V = J_s q' + ∂X_s/∂t (a central difference, h ≈ ε^(1/3): exactly 0 for a model without t),
-/// and alike for the capsules' ends: s.Jc, s.E, s.EV.
+/// and alike for the capsules' ends: s.Jc, s.E, s.EV; the boxes' poses s.BX, velocities and spins
+/// s.BV (ω = J_ω q' + 2 vec(∂q/∂t ⊗ q̄)) and Jacobians s.Jb.
 void sphere_states(const PlacedModel& model, double t, SphereSync& s);
 /// Writes the proxies of `model` (positions X_s(t, q), velocities J_s q' + ∂X_s/∂t) from its
 /// coordinates at time t.
