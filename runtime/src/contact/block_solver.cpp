@@ -48,9 +48,18 @@ void Solver::setup_blocks() {
             const double en = dot(e, c.n);
             b.reach += std::sqrt(std::max(dot(e, e) - en * en, 0.0)) / static_cast<double>(m);
         }
-        b.mt1 = 1 / point_inverse_mass(A, B, b.ra, b.rb, b.t1, sa, sb);
-        b.mt2 = 1 / point_inverse_mass(A, B, b.ra, b.rb, b.t2, sa, sb);
-        b.mtw = 1 / (sa * quad(A.ii, c.n) + sb * quad(B.ii, c.n));
+        if (!is_model_box(B)) {
+            b.mt1 = 1 / point_inverse_mass(A, B, b.ra, b.rb, b.t1, sa, sb);
+            b.mt2 = 1 / point_inverse_mass(A, B, b.ra, b.rb, b.t2, sa, sb);
+            b.mtw = 1 / (sa * quad(A.ii, c.n) + sb * quad(B.ii, c.n));
+        } else { // a model may not move or turn along some directions at all: no impulse there
+            const double floor = kSingularInverseMass * (sa * A.im + sb * inverse_mass_scale(B));
+            auto inverse = [floor](double k) { return k > floor ? 1 / k : 0.0; };
+            const double g[6] = {0, 0, 0, c.n[0], c.n[1], c.n[2]};
+            b.mt1 = inverse(point_k(A, B, b.ra, b.rb, b.t1, sa, sb));
+            b.mt2 = inverse(point_k(A, B, b.ra, b.rb, b.t2, sa, sb));
+            b.mtw = inverse(sa * quad(A.ii, c.n) + sb * model_box_k(B, g, g));
+        }
         b.mu = c.mu;
         b.jt1 = b.jt2 = b.jtw = 0;
         for (std::size_t j = 0; j < m; ++j) {
@@ -113,6 +122,12 @@ bool Solver::solve_block(Block& k, const std::vector<Body>& from) {
     double wa[3], wb[3];
     mul_sym(A.ii, u, wa);
     for (int d = 0; d < 3; ++d) u[d] += total * k.off[d];
+    if (is_model_box(B)) { // −Σ λ_j n at its points: the force −total n, the moment −Σ λ_j r_b,j × n
+        const double force[3] = {-total * n[0], -total * n[1], -total * n[2]}, moment[3] = {-u[0], -u[1], -u[2]};
+        for (int d = 0; d < 3; ++d) A.v[d] += A.im * total * n[d], A.w[d] += wa[d];
+        model_wrench(B, force, moment, bodies_, false);
+        return true;
+    }
     mul_sym(B.ii, u, wb);
     for (int d = 0; d < 3; ++d) {
         A.v[d] += A.im * total * n[d];
@@ -215,7 +230,7 @@ bool Solver::solve_lcp(Block& k, const double* b, const double* bias, double* x)
 }
 
 void Solver::fill_block(const Body& A, const Body& B, const double* n, const double (*ra)[3], const double (*rb)[3],
-                        std::size_t m, double sa, double sb, bool plane, Block& k) {
+                        std::size_t m, double sa, double sb, bool plane, Block& k) const {
     double(&ua)[4][3] = k.ua;
     double ub[4][3], ia[4][3], ib[4][3];
     for (std::size_t j = 0; j < m; ++j) {
@@ -235,6 +250,13 @@ void Solver::fill_block(const Body& A, const Body& B, const double* n, const dou
     for (std::size_t p = 0; p < 4; ++p)
         for (std::size_t q = 0; q < 4; ++q)
             k.k[4 * p + q] = p < m && q < m ? sa * (A.im + dot(ua[p], ia[q])) + sb * (B.im + dot(ub[p], ib[q])) : 0.0;
+    if (is_model_box(B)) // the model's share: g_pᵀ A_box g_q, g = (n, r_b × n) (no I_b: B.ii is 0)
+        for (std::size_t p = 0; p < m; ++p)
+            for (std::size_t q = 0; q < m; ++q) {
+                const double gp[6] = {n[0], n[1], n[2], ub[p][0], ub[p][1], ub[p][2]};
+                const double gq[6] = {n[0], n[1], n[2], ub[q][0], ub[q][1], ub[q][2]};
+                k.k[4 * p + q] = sa * (A.im + dot(ua[p], ia[q])) + sb * model_box_k(B, gp, gq);
+            }
     // The full set's pseudo-inverse (the least impulses that do it): four points of a face
     // give a K of rank 3, whose regularised inverse would amplify round-off unevenly; its
     // closed form (block_inverse.hpp), the eigen-decomposition for degenerate manifolds.
@@ -290,6 +312,17 @@ bool Solver::correct_block(std::size_t first, Block& k) {
     double wa[3], wb[3];
     mul_sym(A.ii, ta, wa);
     mul_sym(B.ii, tb, wb);
+    if (is_model_box(B)) { // moved at once, also under Jacobi (its points move with the model)
+        const double force[3] = {-p[0], -p[1], -p[2]}, moment[3] = {-tb[0], -tb[1], -tb[2]};
+        if (jacobi) {
+            for (int d = 0; d < 3; ++d) delta_[3 * c.a + d] += A.im * p[d], turn_[3 * c.a + d] += wa[d];
+        } else {
+            for (int d = 0; d < 3; ++d) A.p[d] += A.im * p[d];
+            rotate_by(A.q, wa);
+        }
+        model_wrench(B, force, moment, bodies_, true);
+        return true;
+    }
     if (jacobi) {
         for (int d = 0; d < 3; ++d) {
             delta_[3 * c.a + d] += A.im * p[d];

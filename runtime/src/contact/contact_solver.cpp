@@ -385,6 +385,11 @@ void Solver::apply_central(const Block& k, double l1, double l2, double ltw, std
     for (int d = 0; d < 3; ++d) A.w[d] += i[d];
     cross(k.rb, p, u);
     for (int d = 0; d < 3; ++d) u[d] += ltw * k.n[d];
+    if (is_model_box(Bb)) { // −p at its centre of the block and the moment −(r_b × p + ltw n)
+        const double force[3] = {-p[0], -p[1], -p[2]}, moment[3] = {-u[0], -u[1], -u[2]};
+        model_wrench(Bb, force, moment, B, false);
+        return;
+    }
     mul_sym(Bb.ii, u, i);
     for (int d = 0; d < 3; ++d) Bb.w[d] -= i[d];
 }

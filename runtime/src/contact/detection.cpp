@@ -360,7 +360,9 @@ void Solver::add_model_manifold(const Manifold& m, std::uint32_t a, std::uint32_
         }
         r.sep = p.separation;
         r.slot = -1;
-        r.block_size = 1; // each point its own row: the model side has no block
+        // each point its own row (a model sphere or capsule side has no block); a model box's
+        // points solved together, as two rigid bodies' (block_solver.cpp)
+        r.block_size = B.shape != Shape::box ? 1 : k == 0 ? static_cast<std::uint8_t>(m.count) : 0;
         point_rows_.push_back(r);
     }
 }

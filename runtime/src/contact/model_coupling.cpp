@@ -176,6 +176,11 @@ void Solver::model_impulse(const Body& X, const double* lambda, std::vector<Body
             m.dq[i] = row[0] * lambda[0] + row[1] * lambda[1] + row[2] * lambda[2];
         }
     }
+    follow_model(m, B, position);
+}
+
+void Solver::follow_model(ModelScratch& m, std::vector<Body>& B, bool position) {
+    const std::size_t n = m.q.size(), ns = m.placed.spheres.size(), nk = m.placed.ends.size(), nx = m.placed.boxes.size();
     std::vector<double>& target = position ? m.q : m.qd;
     for (std::size_t i = 0; i < n; ++i) target[i] += m.dq[i];
     for (std::size_t j = 0; j < ns; ++j) {
@@ -212,6 +217,29 @@ void Solver::model_impulse(const Body& X, const double* lambda, std::vector<Body
         else
             for (int d = 0; d < 3; ++d) b.w[d] += d6[3 + d];
     }
+}
+
+double Solver::model_box_k(const Body& X, const double* g1, const double* g2) const {
+    const ModelScratch& m = models_[static_cast<std::size_t>(X.model)];
+    const double* a = &m.A[6 * m.placed.spheres.size() + 18 * m.placed.ends.size() + 36 * static_cast<std::size_t>(X.sphere)];
+    double k = 0;
+    for (int r = 0; r < 6; ++r)
+        for (int c = 0; c < 6; ++c) k += g1[r] * a[6 * r + c] * g2[c];
+    return k;
+}
+
+void Solver::model_wrench(const Body& X, const double* force, const double* moment, std::vector<Body>& B, bool position) {
+    ModelScratch& m = models_[static_cast<std::size_t>(X.model)];
+    const std::size_t n = m.q.size(), nb = 3 * (m.placed.spheres.size() + 2 * m.placed.ends.size()) + 6 * m.placed.boxes.size();
+    const double g[6] = {force[0], force[1], force[2], moment[0], moment[1], moment[2]};
+    const std::size_t c = 3 * (m.placed.spheres.size() + 2 * m.placed.ends.size()) + 6 * static_cast<std::size_t>(X.sphere);
+    for (std::size_t i = 0; i < n; ++i) {
+        const double* row = &m.B[i * nb + c];
+        double d = 0;
+        for (int e = 0; e < 6; ++e) d += row[e] * g[e];
+        m.dq[i] = d;
+    }
+    follow_model(m, B, position);
 }
 
 void Solver::scatter_model(World& w, ModelScratch& m) {

@@ -389,7 +389,7 @@ private:
     void solve_contacts();
     void setup_blocks();
     /// The friction of a block at its centre (l1, l2 along t1, t2) and its twist ltw about n.
-    static void apply_central(const Block& k, double l1, double l2, double ltw, std::vector<Body>& B);
+    void apply_central(const Block& k, double l1, double l2, double ltw, std::vector<Body>& B);
     /// The normal impulses of the block (k.jn, read against k.bias) with the velocities of
     /// `from`, applied to bodies_; false (nothing applied) when no set of pressing points solves it.
     bool solve_block(Block& k, const std::vector<Body>& from);
@@ -397,8 +397,23 @@ private:
     bool solve_lcp(Block& k, const double* b, const double* bias, double* x) const;
     /// K of m points with lever arms ra, rb and normal n between A and B (split masses sa, sb),
     /// its pseudo-inverse, and u_j, off, n; `plane`: b is a plane's static body.
-    static void fill_block(const Body& A, const Body& B, const double* n, const double (*ra)[3], const double (*rb)[3],
-                           std::size_t m, double sa, double sb, bool plane, Block& k);
+    void fill_block(const Body& A, const Body& B, const double* n, const double (*ra)[3], const double (*rb)[3],
+                    std::size_t m, double sa, double sb, bool plane, Block& k) const;
+    /// A model box X's share of K: g₁ᵀ A_box g₂ for the wrenches g = (force, moment).
+    double model_box_k(const Body& X, const double* g1, const double* g2) const;
+    /// The wrench (force, moment) on a model box X (about its centre) as Δq' (Δq and turns when
+    /// `position`), every point of its model followed.
+    void model_wrench(const Body& X, const double* force, const double* moment, std::vector<Body>& B, bool position);
+    /// m.dq added to its q' (q when `position`), and every point of the model moved with it.
+    void follow_model(ModelScratch& m, std::vector<Body>& B, bool position);
+    /// K⁻¹ along u at lever arms ra, rb (point_inverse_mass, or with a model box as side b).
+    double point_k(const Body& A, const Body& B, const double* ra, const double* rb, const double* u, double sa, double sb) const {
+        if (!is_model_box(B)) return point_inverse_mass(A, B, ra, rb, u, sa, sb);
+        double ua[3], g[6] = {u[0], u[1], u[2], 0, 0, 0};
+        cross(ra, u, ua);
+        cross(rb, u, g + 3);
+        return sa * (A.im + quad(A.ii, ua)) + sb * model_box_k(B, g, g);
+    }
     /// Gauss–Seidel position correction of the manifold from rows_[first] (k: its K, filled
     /// when !k.set_known); false if no point is deeper than the slop.
     bool correct_block(std::size_t first, Block& k);
