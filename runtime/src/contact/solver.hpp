@@ -25,6 +25,13 @@
 // per manifold point, no block): its anchor is the point at s plus the surface offset lb
 // (world), its velocity that point's, its K⁻¹ share uᵀ A(s) u, and an impulse reaches it
 // through B(s).
+// A model box is a body that moves and spins with its model: G = [J_c; J_ω] (6 × dof) maps q'
+// to its centre's velocity and spin, B_box = M⁻¹ Gᵀ, and A_box = G B_box (6 × 6) is its
+// generalised inverse mass. It is side b of point rows against planes (the static body as side
+// a, the points in the world) and rigid bodies, anchored in its own frame as a rigid body is;
+// a contact at the lever arm r from its centre sees g = (u, r × u) and the share gᵀ A_box g of
+// K⁻¹ along u, and an impulse P reaches q' as B_box (P, r × P). A manifold's points form a
+// block as two rigid bodies' do (K_pq's b-side g_pᵀ A_box g_q; one wrench per pass).
 // A row of a manifold (a box or capsule against anything: a "point" row) has general lever
 // arms r_a = x − p_a, r_b = x − p_b from the centres to the contact point x (the midpoint of
 // its two surface points):

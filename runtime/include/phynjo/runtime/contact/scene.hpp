@@ -74,7 +74,8 @@ struct Scene {
 /// spheres, boxes and capsules — the world then has the shape fields), then the `models` at
 /// their initial states, then `extra_fields` (e.g. contact_cache_fields()). Proxies have zero
 /// mass fields and the sphere's radius. Throws std::invalid_argument for an
-/// empty or repeated instance name, a model without shape functions, a non-positive radius;
+/// empty or repeated instance name, a model without shape functions, a non-positive radius or
+/// half extent;
 /// InvalidBody as make_rigid_world.
 Scene make_scene(const Registry& components, const std::vector<RigidBody>& bodies, const std::vector<RigidInit>& init,
                  std::vector<ModelInstance> models, const std::vector<std::string>& extra_fields = {});
