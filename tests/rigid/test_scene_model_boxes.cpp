@@ -186,3 +186,29 @@ TEST_CASE("model boxes: two plates and a box falling together, bit-identical on 
     CHECK(b[1] > 0.05);
     CHECK(std::get<3>(one).y() > 0.05);
 }
+
+// Bugs caught: a model box's anchors kept in the world frame (right only while it is not
+// turned: standing on its short face, its contact points would be taken a quarter turn away),
+// a box's half extents read in the wrong order; make_scene accepting a box it cannot place.
+TEST_CASE("a plate standing on its short face stays standing, at its height", "[scene][box][physics]") {
+    free_plate::Parameters P;
+    P.g = 9.81;
+    Scene sc = make_scene(Registry{}, {}, {}, {ModelInstance{"plate", free_plate::system(P)}}, contact_cache_fields());
+    const double half_pi = 2 * std::atan(1.0);
+    const double q[3] = {0, P.a + 1e-3, half_pi}, qd[3] = {0, 0, 0};
+    set_model_state(sc, 0, q, qd);
+    Stepper st(scene_step(sc, Force3D{}, {Plane::ground()}, ContactMaterial{restitution_curve(0.2, 0.05), constant_curve(0.5)}, {}));
+    double lowest = 1e9;
+    for (int k = 0; k < 3000; ++k) {
+        st.step(sc.world, 1e-3);
+        lowest = std::min(lowest, model_q(sc, 0)[1] - P.a);
+    }
+    const std::vector<double> x = model_q(sc, 0);
+    CHECK(lowest > -1e-3);                   // never sank a millimetre
+    CHECK(x[1] == Approx(P.a).margin(5e-4)); // on the face of width 2b, its long side up
+    CHECK(x[2] == Approx(half_pi).margin(1e-3));
+    CHECK(std::abs(x[0]) < 1e-4);
+    P.b = -0.1;
+    CHECK_THROWS_WITH(make_scene(Registry{}, {}, {}, {ModelInstance{"plate", free_plate::system(P)}}),
+                      Catch::Contains("box 'plate' of model 'plate' has half extent -0.1"));
+}
