@@ -150,19 +150,15 @@ void Solver::gather_model(const World& w, ModelScratch& m, std::size_t index) {
 void Solver::model_impulse(const Body& X, const double* lambda, std::vector<Body>& B, bool position, double s,
                            const double* arm) {
     ModelScratch& m = models_[static_cast<std::size_t>(X.model)];
-    const std::size_t n = m.q.size(), ns = m.placed.spheres.size(), nk = m.placed.ends.size(), nx = m.placed.boxes.size(),
-                      nb = 3 * (ns + 2 * nk) + 6 * nx;
-    if (X.shape == Shape::box) { // B_box (Λ, arm × Λ)
-        double g[6] = {lambda[0], lambda[1], lambda[2], 0, 0, 0};
-        if (arm != nullptr) cross(arm, lambda, g + 3);
-        const std::size_t c = 3 * (ns + 2 * nk) + 6 * static_cast<std::size_t>(X.sphere);
-        for (std::size_t i = 0; i < n; ++i) {
-            const double* row = &m.B[i * nb + c];
-            double d = 0;
-            for (int e = 0; e < 6; ++e) d += row[e] * g[e];
-            m.dq[i] = d;
-        }
-    } else if (X.shape == Shape::capsule) { // B(s) Λ = (1 − s) B₁ Λ + s B₂ Λ
+    const std::size_t n = m.q.size(), ns = m.placed.spheres.size(), nk = m.placed.ends.size(),
+                      nb = 3 * (ns + 2 * nk) + 6 * m.placed.boxes.size();
+    if (X.shape == Shape::box) { // the wrench (Λ, arm × Λ)
+        double moment[3] = {0, 0, 0};
+        if (arm != nullptr) cross(arm, lambda, moment);
+        model_wrench(X, lambda, moment, B, position);
+        return;
+    }
+    if (X.shape == Shape::capsule) { // B(s) Λ = (1 − s) B₁ Λ + s B₂ Λ
         const std::size_t c = 3 * ns + 6 * static_cast<std::size_t>(X.sphere);
         for (std::size_t i = 0; i < n; ++i) {
             const double* row = &m.B[i * nb + c];

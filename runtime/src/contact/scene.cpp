@@ -48,21 +48,16 @@ Scene make_scene(const Registry& components, const std::vector<RigidBody>& bodie
         std::size_t offset = 0;
         for (std::size_t k = 0; k < s.n_shapes; ++k) {
             const ModelShape kind = s.shape_kinds[k];
-            if (kind == ModelShape::sphere || kind == ModelShape::capsule) { // its radius must be positive
-                const bool sphere = kind == ModelShape::sphere;
-                const double r = sphere ? p.radii[p.spheres.size()] : p.capsule_radii[p.ends.size()];
-                if (!(r > 0) || !std::isfinite(r))
-                    throw std::invalid_argument(std::string("make_scene: ") + (sphere ? "sphere '" : "capsule '") +
-                                                s.shape_names[k] + "' of model '" + m.name + "' has radius " +
-                                                std::to_string(r) + " m; it must be positive");
-            }
+            // a colliding shape's sizes must be positive
+            auto positive = [&](const char* shape, const char* size, double v) {
+                if (!(v > 0) || !std::isfinite(v))
+                    throw std::invalid_argument(std::string("make_scene: ") + shape + " '" + s.shape_names[k] + "' of model '" +
+                                                m.name + "' has " + size + " " + std::to_string(v) + " m; it must be positive");
+            };
+            if (kind == ModelShape::sphere) positive("sphere", "radius", p.radii[p.spheres.size()]);
+            if (kind == ModelShape::capsule) positive("capsule", "radius", p.capsule_radii[p.ends.size()]);
             if (kind == ModelShape::box) {
-                for (std::size_t d = 0; d < 3; ++d) {
-                    const double h = p.box_half_extents[3 * p.boxes.size() + d];
-                    if (!(h > 0) || !std::isfinite(h))
-                        throw std::invalid_argument("make_scene: box '" + s.shape_names[k] + "' of model '" + m.name +
-                                                    "' has half extent " + std::to_string(h) + " m; it must be positive");
-                }
+                for (std::size_t d = 0; d < 3; ++d) positive("box", "half extent", p.box_half_extents[3 * p.boxes.size() + d]);
                 p.boxes.push_back(offset);
             }
             if (kind == ModelShape::capsule) p.ends.push_back(offset);

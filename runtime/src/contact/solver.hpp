@@ -489,13 +489,9 @@ private:
         const ModelScratch& m = models_[static_cast<std::size_t>(X.model)];
         const auto j = static_cast<std::size_t>(X.sphere);
         if (X.shape == Shape::box) { // gᵀ A_box g, g = (u, arm × u)
-            const double* a = &m.A[6 * m.placed.spheres.size() + 18 * m.placed.ends.size() + 36 * j];
             double g[6] = {u[0], u[1], u[2], 0, 0, 0};
             if (arm != nullptr) cross(arm, u, g + 3);
-            double k = 0;
-            for (int r = 0; r < 6; ++r)
-                for (int c = 0; c < 6; ++c) k += g[r] * a[6 * r + c] * g[c];
-            return k;
+            return model_box_k(X, g, g);
         }
         if (X.shape != Shape::capsule) return quad(&m.A[6 * j], u);
         const double* a = &m.A[6 * m.placed.spheres.size() + 18 * j];
