@@ -409,18 +409,27 @@ void FunctionPrinter::apply_event() {
 /// (phynjo extension).
 void FunctionPrinter::shapes() {
     // a function of (P, t, q) filling `out` from `exprs` (one CSE pass), or its empty stub
-    auto of_q = [&](const char* fn, const char* out, const std::vector<Expr>& exprs) {
+    // With `axes`: each |a|² of opt.box_axis_lengths checked before anything is written.
+    auto of_q = [&](const char* fn, const char* out, const std::vector<Expr>& exprs, bool axes = false) {
         if (exprs.empty()) return empty(fn);
-        const std::string b = body(names, exprs, res, uses_t, uses_p);
+        std::vector<Expr> all = exprs;
+        if (axes) all.insert(all.end(), opt.box_axis_lengths.begin(), opt.box_axis_lengths.end());
+        const std::string b = body(names, all, res, uses_t, uses_p);
         s << head(fn) << sizes(fn, {{"q", n}, {out, exprs.size()}}) << unused(uses_t, uses_p) << b;
+        for (std::size_t k = exprs.size(); k < all.size(); ++k) {
+            const std::string& what = opt.box_axis_names[k - exprs.size()];
+            s << "    if (!(" << res[k] << " > 0) || !std::isfinite(" << res[k] << "))\n"
+              << "        throw std::invalid_argument(\"" << m.name << "::" << fn << ": " << what
+              << " has length zero at these parameters (|a|^2 = \" + std::to_string(" << res[k] << ") + \")\");\n";
+        }
         for (std::size_t k = 0; k < exprs.size(); ++k) s << "    " << out << "[" << k << "] = " << res[k] << ";\n";
         s.close();
         s << "\n";
     };
-    of_q("shape_positions", "X", opt.shape_points);
+    of_q("shape_positions", "X", opt.shape_points, true);
     of_q("sphere_jacobians", "J", opt.sphere_jacobians);
     of_q("capsule_jacobians", "J", opt.capsule_jacobians);
-    of_q("box_jacobians", "J", opt.box_jacobians);
+    of_q("box_jacobians", "J", opt.box_jacobians, true);
     struct Sizes {
         const char* fn;
         const char* out;

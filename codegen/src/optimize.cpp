@@ -58,6 +58,13 @@ OptimizedEquations optimize(const Model& m, const EquationsOfMotion& derived) {
             const auto J = detail::box_jacobian(sh, q);
             o.box_jacobians.insert(o.box_jacobians.end(), J.begin(), J.end());
             o.box_half_extents.insert(o.box_half_extents.end(), sh.half_extents.begin(), sh.half_extents.end());
+            for (std::size_t k = 0; k < sh.turns.size(); ++k) {
+                const auto& a = sh.turns[k].axis;
+                const Expr length2 = a[0] * a[0] + a[1] * a[1] + a[2] * a[2];
+                if (length2.is_number()) continue; // not zero: the analyzer checked it
+                o.box_axis_lengths.push_back(length2);
+                o.box_axis_names.push_back("the axis of turn " + std::to_string(k + 1) + " of box '" + sh.name + "'");
+            }
             continue;
         }
         o.shape_points.insert(o.shape_points.end(), sh.points.begin(), sh.points.end());

@@ -10,6 +10,7 @@
 #include <array>
 #include <cmath>
 #include <random>
+#include <string>
 #include <vector>
 
 namespace {
@@ -131,6 +132,35 @@ TEST_CASE("shape_positions: the model's kinematics in file order, with the names
     CHECK(h == std::array<double, 9>{0.05, 0.025, 0.125, 0.2, 0.05, 0.02, 0.25, 0.25, 0.125});
     std::vector<double> wrong(kValues - 1);
     CHECK_THROWS_AS(shapes::shape_positions(P, 0, std::array<double, 2>{0, 0}, wrong), std::invalid_argument);
+}
+
+// Bug caught: a turn's axis that a parameter makes zero at run time (the analyzer saw only the
+// defaults) normalised by dividing by zero — NaN orientations and Jacobians, silently.
+TEST_CASE("a box's axis made zero by its parameter is refused, naming the turn and the box", "[codegen][shapes]") {
+    shapes::Parameters P;
+    std::vector<double> X(kValues), J(3 * 6 * 2);
+    const std::array<double, 2> q{0.3, -0.2};
+    for (const double k : {0.0, std::nan("")}) {
+        P.k = k;
+        for (int f = 0; f < 2; ++f) {
+            try {
+                if (f == 0)
+                    shapes::shape_positions(P, 0, q, X);
+                else
+                    shapes::box_jacobians(P, 0, q, J);
+                FAIL("no error for k = " << k);
+            } catch (const std::invalid_argument& e) {
+                const std::string what = e.what();
+                CHECK(what.find(f == 0 ? "shapes::shape_positions: " : "shapes::box_jacobians: ") == 0);
+                CHECK(what.find("the axis of turn 1 of box 'tilt' has length zero at these parameters") != std::string::npos);
+            }
+        }
+    }
+    P.k = -2; // any other length: the same axis as k = 1 reversed (a turn the other way), finite
+    shapes::shape_positions(P, 0, q, X);
+    shapes::box_jacobians(P, 0, q, J);
+    for (const double x : X) CHECK(std::isfinite(x));
+    for (const double x : J) CHECK(std::isfinite(x));
 }
 
 // Bugs caught: the Jacobian of a segment emitted as a sphere's (shifting every later one),

@@ -5,7 +5,7 @@
 # still, the t-driven sphere at a sin(w t). Catches: a missing or misnamed column, shapes
 # at another state or time than the row, a segment written with 3 entries, a box without its
 # quaternion (lid's: q_z(th1) ⊗ q_y(th2) = (c1 c2, −s1 s2, c1 s2, s1 c2) of the half angles; the
-# fixed crate's the identity).
+# fixed crate's the identity), NaN columns when --param makes a box's axis zero.
 #   usage: test_shapes_main.sh SHAPES_SIM
 set -u
 sim=$1
@@ -41,4 +41,9 @@ paste -d, "$work/out.csv" "$work/shapes.csv" | awk -F, '
 "$sim" --t-end 1 --shapes /nonexistent/dir/s.csv -o "$work/o.csv" 2> "$work/err.txt"; rc=$?
 [ $rc -eq 1 ] && grep -q "cannot write /nonexistent/dir/s.csv" "$work/err.txt" && ok "unwritable --shapes: exit 1, named" \
   || bad "unwritable: exit $rc, $(cat "$work/err.txt")"
+# tilt turns about (k, k, k): k = 0 leaves it no orientation — refused, not NaN columns
+"$sim" --t-end 1 --param k=0 --shapes "$work/zero.csv" -o "$work/o.csv" 2> "$work/err.txt"; rc=$?
+[ $rc -eq 1 ] && grep -q "the axis of turn 1 of box 'tilt' has length zero" "$work/err.txt" \
+  && ! grep -qi nan "$work/zero.csv" && ok "an axis made zero by --param: exit 1, the box named, no NaN written" \
+  || bad "zero axis: exit $rc, $(cat "$work/err.txt")"
 finish

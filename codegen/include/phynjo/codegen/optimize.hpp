@@ -9,6 +9,7 @@
 #include "phynjo/codegen/equations.hpp"
 #include "phynjo/codegen/model.hpp"
 
+#include <string>
 #include <vector>
 
 namespace phynjo::codegen {
@@ -38,6 +39,11 @@ struct OptimizedEquations {
     std::vector<cas::Expr> box_jacobians;
     /// The boxes' half extents (HX, HY, HZ), as written.
     std::vector<cas::Expr> box_half_extents;
+    /// Per turn of a box whose axis holds parameters (file order): |a|², and what it is ("the
+    /// axis of turn 1 of box 'lid'"). The analyzer checked the defaults; the generated shape
+    /// functions refuse an axis that other parameters make zero (it would give no orientation).
+    std::vector<cas::Expr> box_axis_lengths;
+    std::vector<std::string> box_axis_names;
     /// The initial values: the coordinates', then the velocities', as written.
     std::vector<cas::Expr> initial_values;
 };
