@@ -258,14 +258,16 @@ TEST_CASE("crossed edges meet in one point at the edges' closest points", "[coll
     CHECK((p.on_a - Eigen::Vector3d(0, reach - 1e-3, 0.02)).norm() < 1e-9);
 }
 
-// Catches: a vertex below the plane missed, one above kept, a vertex's feature id reused.
+// Catches: a vertex below the plane missed, one above kept, a vertex's feature id reused; the
+// early exit for a box clear of the plane taking the box's extent along the normal in the
+// wrong frame (R n for Rᵀ n) or leaving it out — boxes near the plane then lose their corners.
 TEST_CASE("box-plane manifolds hold exactly the vertices below the margin", "[collision][manifold]") {
     std::mt19937 rng(7);
     std::uniform_real_distribution<double> size(0.05, 0.5), height(-0.3, 0.8);
     Plane tilted;
     tilted.normal = Eigen::Vector3d(0.1, 1, -0.2).normalized();
     tilted.offset = 0.05;
-    int cut = 0;
+    int cut = 0, clear = 0;
     for (int trial = 0; trial < 2000; ++trial) {
         const OBB a = box({0.2, height(rng), -0.1}, {size(rng), size(rng), size(rng)}, random_rotation(rng));
         Manifold m;
@@ -282,6 +284,7 @@ TEST_CASE("box-plane manifolds hold exactly the vertices below the margin", "[co
         INFO("trial " << trial);
         CHECK(m.count == std::min<int>(4, static_cast<int>(below.size())));
         if (below.size() > 4) ++cut;
+        if (below.empty()) ++clear;
         std::set<std::uint32_t> seen;
         double deepest = INFINITY;
         for (auto& [s, id] : below) deepest = std::min(deepest, s);
@@ -298,7 +301,8 @@ TEST_CASE("box-plane manifolds hold exactly the vertices below the margin", "[co
         CHECK(static_cast<int>(seen.size()) == m.count);
         if (m.count > 0) CHECK(kept_deepest == deepest);
     }
-    CHECK(cut > 10); // deep poses with 5 or more vertices below, reduced to the deepest and 3 others
+    CHECK(cut > 10);    // deep poses with 5 or more vertices below, reduced to the deepest and 3 others
+    CHECK(clear > 100); // and boxes clear of the plane (the early exit)
 }
 
 // Catches: the sphere's centre inside the box pushed out through the wrong face, an edge or

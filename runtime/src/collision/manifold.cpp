@@ -60,6 +60,12 @@ void box_plane(const OBB& a, const Plane& plane, double margin, Manifold& out) {
     out.count = 0;
     out.normal = plane.normal;
     const Eigen::Matrix3d r = a.rotation.to_matrix();
+    // The box's lowest point along the normal is at n·c − Σ h_i |n·r_i| from the plane: when
+    // that clears the margin by more than the corners' own rounding could (1e-12 relative:
+    // thousands of ulps), no corner is within it — most boxes of a pile, against most walls.
+    const double centre = plane.normal.dot(a.center) - plane.offset;
+    const double reach = a.half.dot((r.transpose() * plane.normal).cwiseAbs());
+    if (centre - reach > margin + 1e-12 * (std::abs(centre) + reach + std::abs(plane.offset))) return;
     std::array<ManifoldPoint, 8> found{};
     int m = 0;
     for (std::uint32_t v = 0; v < 8; ++v) {
