@@ -151,16 +151,19 @@ void box_box(const OBB& a, const OBB& b, double margin, Manifold& out) {
     const int iu = (inc + 1) % 3, iv = (inc + 2) % 3;
     const Eigen::Vector3d fc = I.center + (inc_plus ? I.half(inc) : -I.half(inc)) * ri.col(inc);
     const Eigen::Vector3d eu = I.half(iu) * ri.col(iu), ev = I.half(iv) * ri.col(iv);
-    std::array<ClipVertex, 8> poly{}, next{};
+    // Two buffers, clipped from one into the other (pointers swapped, not the 8 vertices).
+    std::array<ClipVertex, 8> buffer_a{}, buffer_b{};
+    ClipVertex* poly = buffer_a.data();
+    ClipVertex* next = buffer_b.data();
     const Eigen::Vector3d corners[4] = {fc + eu + ev, fc - eu + ev, fc - eu - ev, fc + eu - ev};
-    for (int k = 0; k < 4; ++k) poly[static_cast<std::size_t>(k)] = {corners[k], k, line_pair((k + 3) % 4, k)};
+    for (int k = 0; k < 4; ++k) poly[k] = {corners[k], k, line_pair((k + 3) % 4, k)};
     int n = 4;
     // The four side planes of the reference face.
     const int su = (axis + 1) % 3, sv = (axis + 2) % 3;
     const int sides[4] = {su, su, sv, sv};
     for (int k = 0; k < 4 && n > 0; ++k) {
         const Eigen::Vector3d u = (k % 2 == 0 ? 1.0 : -1.0) * rr.col(sides[k]);
-        n = clip(poly.data(), n, next.data(), u, R.center, R.half(sides[k]), 4 + k);
+        n = clip(poly, n, next, u, R.center, R.half(sides[k]), 4 + k);
         std::swap(poly, next);
     }
     const Eigen::Vector3d face_centre = R.center + R.half(axis) * nref;
@@ -176,7 +179,7 @@ void box_box(const OBB& a, const OBB& b, double margin, Manifold& out) {
     std::array<std::uint32_t, 8> lines{};
     int m = 0;
     for (int k = 0; k < n; ++k) {
-        const Eigen::Vector3d& x = poly[static_cast<std::size_t>(k)].p;
+        const Eigen::Vector3d& x = poly[k].p;
         const double s = nref.dot(x - face_centre);
         if (s >= margin) continue;
         ManifoldPoint& p = found[static_cast<std::size_t>(m)];
@@ -187,7 +190,7 @@ void box_box(const OBB& a, const OBB& b, double margin, Manifold& out) {
         const std::uint32_t qr = (rr.col(su).dot(x - R.center) >= 0 ? 1u : 0u) | (rr.col(sv).dot(x - R.center) >= 0 ? 2u : 0u);
         const std::uint32_t qi = (ri.col(iu).dot(x - fc) >= 0 ? 1u : 0u) | (ri.col(iv).dot(x - fc) >= 0 ? 2u : 0u);
         p.feature = faces | qr << 2 | qi;
-        lines[static_cast<std::size_t>(m)] = poly[static_cast<std::size_t>(k)].id;
+        lines[static_cast<std::size_t>(m)] = poly[k].id;
         ++m;
     }
     for (int k = 0; k < m; ++k)
