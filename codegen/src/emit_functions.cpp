@@ -409,15 +409,16 @@ void FunctionPrinter::apply_event() {
 /// (phynjo extension).
 void FunctionPrinter::shapes() {
     // a function of (P, t, q) filling `out` from `exprs` (one CSE pass), or its empty stub
-    // With `axes`: each |a|² of opt.box_axis_lengths checked before anything is written.
+    // With `axes`: each |a|² of opt.box_axis_checks checked before anything is written.
     auto of_q = [&](const char* fn, const char* out, const std::vector<Expr>& exprs, bool axes = false) {
         if (exprs.empty()) return empty(fn);
         std::vector<Expr> all = exprs;
-        if (axes) all.insert(all.end(), opt.box_axis_lengths.begin(), opt.box_axis_lengths.end());
+        if (axes)
+            for (const auto& c : opt.box_axis_checks) all.push_back(c.length2);
         const std::string b = body(names, all, res, uses_t, uses_p);
         s << head(fn) << sizes(fn, {{"q", n}, {out, exprs.size()}}) << unused(uses_t, uses_p) << b;
         for (std::size_t k = exprs.size(); k < all.size(); ++k) {
-            const std::string& what = opt.box_axis_names[k - exprs.size()];
+            const std::string& what = opt.box_axis_checks[k - exprs.size()].what;
             s << "    if (!(" << res[k] << " > 0) || !std::isfinite(" << res[k] << "))\n"
               << "        throw std::invalid_argument(\"" << m.name << "::" << fn << ": " << what
               << " has length zero at these parameters (|a|^2 = \" + std::to_string(" << res[k] << ") + \")\");\n";

@@ -62,8 +62,7 @@ OptimizedEquations optimize(const Model& m, const EquationsOfMotion& derived) {
                 const auto& a = sh.turns[k].axis;
                 const Expr length2 = a[0] * a[0] + a[1] * a[1] + a[2] * a[2];
                 if (length2.is_number()) continue; // not zero: the analyzer checked it
-                o.box_axis_lengths.push_back(length2);
-                o.box_axis_names.push_back("the axis of turn " + std::to_string(k + 1) + " of box '" + sh.name + "'");
+                o.box_axis_checks.push_back({length2, "the axis of turn " + std::to_string(k + 1) + " of box '" + sh.name + "'"});
             }
             continue;
         }

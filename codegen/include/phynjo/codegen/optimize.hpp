@@ -42,8 +42,11 @@ struct OptimizedEquations {
     /// Per turn of a box whose axis holds parameters (file order): |a|², and what it is ("the
     /// axis of turn 1 of box 'lid'"). The analyzer checked the defaults; the generated shape
     /// functions refuse an axis that other parameters make zero (it would give no orientation).
-    std::vector<cas::Expr> box_axis_lengths;
-    std::vector<std::string> box_axis_names;
+    struct AxisCheck {
+        cas::Expr length2; ///< |a|²
+        std::string what;  ///< "the axis of turn 1 of box 'lid'"
+    };
+    std::vector<AxisCheck> box_axis_checks;
     /// The initial values: the coordinates', then the velocities', as written.
     std::vector<cas::Expr> initial_values;
 };
