@@ -70,6 +70,7 @@ void Solver::setup_blocks() {
         blocks_.push_back(b);
         i += m;
     }
+    pack_groups();
 }
 
 namespace {

@@ -567,73 +567,92 @@ void Solver::collisions(double dt) {
     }
 }
 
+void Solver::solve_row_friction(Row& c, const std::vector<Body>& from) {
+    const Body& A = from[c.a];
+    const Body& B = from[c.b];
+    double vt1, vt2;
+    tangent_velocity(c, A, B, vt1, vt2);
+    double n1 = c.jt1 - vt1 * c.mt1, n2 = c.jt2 - vt2 * c.mt2;
+    clamp_disk(n1, n2, c.mu * c.jn);
+    const double l1 = n1 - c.jt1, l2 = n2 - c.jt2;
+    c.jt1 = n1;
+    c.jt2 = n2;
+    if (l1 != 0 || l2 != 0) apply_tangent(c, l1, l2, bodies_);
+}
+
+void Solver::solve_row_normal(Row& c, const std::vector<Body>& from) {
+    const double vn = normal_velocity(c, from[c.a], from[c.b]);
+    const double jn = std::max(c.jn - (vn - c.bias) * c.mn, 0.0);
+    const double l = jn - c.jn;
+    c.jn = jn;
+    if (l != 0) apply_normal(c, l, bodies_);
+}
+
+void Solver::solve_block_friction(Block& k, const std::vector<Body>& from) {
+    const Body& A = from[k.a];
+    const Body& B = from[k.b];
+    double wa[3], wb[3], dv[3];
+    cross(A.w, k.ra, wa);
+    cross(B.w, k.rb, wb);
+    for (int d = 0; d < 3; ++d) dv[d] = A.v[d] + wa[d] - B.v[d] - wb[d];
+    double load = 0;
+    for (std::size_t j = 0; j < k.count; ++j) load += k.jn[j];
+    const double limit = k.mu * load;
+    double n1 = k.jt1 - dot(dv, k.t1) * k.mt1, n2 = k.jt2 - dot(dv, k.t2) * k.mt2;
+    clamp_disk(n1, n2, limit);
+    const double wn = (A.w[0] - B.w[0]) * k.n[0] + (A.w[1] - B.w[1]) * k.n[1] + (A.w[2] - B.w[2]) * k.n[2];
+    const double ntw = std::clamp(k.jtw - wn * k.mtw, -limit * k.reach, limit * k.reach);
+    const double l1 = n1 - k.jt1, l2 = n2 - k.jt2, ltw = ntw - k.jtw;
+    k.jt1 = n1, k.jt2 = n2, k.jtw = ntw;
+    if (l1 != 0 || l2 != 0 || ltw != 0) apply_central(k, l1, l2, ltw, bodies_);
+}
+
+void Solver::solve_block_normal(Block& k, const std::vector<Body>& from) {
+    if (solve_block(k, from)) return;
+    Row* r = &rows_[k.first]; // its points one by one, as rows
+    for (std::size_t j = 0; j < k.count; ++j) {
+        r[j].jn = k.jn[j];
+        solve_row_normal(r[j], from);
+        k.jn[j] = r[j].jn;
+    }
+}
+
 void Solver::solve_contacts() {
     const bool jacobi = options_.scheme == ContactScheme::jacobi;
     for (Block& k : blocks_)
         for (std::size_t j = 0; j < k.count; ++j) k.jn[j] = rows_[k.first + j].jn, k.bias[j] = rows_[k.first + j].bias;
+    load_groups();
     for (int it = 0; it < options_.velocity_iterations; ++it) {
         if (jacobi) snapshot_ = bodies_;
+        // Friction first, limited by the normal impulse of the previous pass; Gauss–Seidel's
+        // normal impulses see the friction just applied, Jacobi's the pass's start.
         const std::vector<Body>& from = jacobi ? snapshot_ : bodies_;
-        // Friction first, limited by the normal impulse of the previous pass.
-        auto friction = [&](Row& c) {
-            const Body& A = from[c.a];
-            const Body& B = from[c.b];
-            double vt1, vt2;
-            tangent_velocity(c, A, B, vt1, vt2);
-            double n1 = c.jt1 - vt1 * c.mt1, n2 = c.jt2 - vt2 * c.mt2;
-            clamp_disk(n1, n2, c.mu * c.jn);
-            const double l1 = n1 - c.jt1, l2 = n2 - c.jt2;
-            c.jt1 = n1;
-            c.jt2 = n2;
-            if (l1 != 0 || l2 != 0) apply_tangent(c, l1, l2, bodies_);
-        };
-        auto normal = [&](Row& c) {
-            const Body& A = jacobi ? from[c.a] : bodies_[c.a];
-            const Body& B = jacobi ? from[c.b] : bodies_[c.b];
-            const double vn = normal_velocity(c, A, B);
-            const double jn = std::max(c.jn - (vn - c.bias) * c.mn, 0.0);
-            const double l = jn - c.jn;
-            c.jn = jn;
-            if (l != 0) apply_normal(c, l, bodies_);
-        };
-        for (const std::int64_t item : schedule_) {
+        std::size_t group = 0;
+        for (std::size_t at = 0; at < schedule_.size(); ++at) {
+            if (group < groups_.size() && group_start_[group] == at) {
+                WideGroup& g = groups_[group++];
+                switch (g.count) {
+                case 2: solve_group<2>(g); break;
+                case 3: solve_group<3>(g); break;
+                default: solve_group<4>(g); break;
+                }
+                at += WideGroup::kLanes - 1;
+                continue;
+            }
+            const std::int64_t item = schedule_[at];
             if (item >= 0) {
                 Row& c = rows_[static_cast<std::size_t>(item)];
-                friction(c);
-                normal(c);
+                solve_row_friction(c, from);
+                solve_row_normal(c, jacobi ? from : bodies_);
                 continue;
             }
             // A manifold: friction at its centre, then its points' normal impulses together.
             Block& k = blocks_[static_cast<std::size_t>(-1 - item)];
-            const std::size_t m = k.count;
-            {
-                const Body& A = from[k.a];
-                const Body& B = from[k.b];
-                double wa[3], wb[3], dv[3];
-                cross(A.w, k.ra, wa);
-                cross(B.w, k.rb, wb);
-                for (int d = 0; d < 3; ++d) dv[d] = A.v[d] + wa[d] - B.v[d] - wb[d];
-                double load = 0;
-                for (std::size_t j = 0; j < m; ++j) load += k.jn[j];
-                const double limit = k.mu * load;
-                double n1 = k.jt1 - dot(dv, k.t1) * k.mt1, n2 = k.jt2 - dot(dv, k.t2) * k.mt2;
-                clamp_disk(n1, n2, limit);
-                const double wn = (A.w[0] - B.w[0]) * k.n[0] + (A.w[1] - B.w[1]) * k.n[1] + (A.w[2] - B.w[2]) * k.n[2];
-                const double ntw = std::clamp(k.jtw - wn * k.mtw, -limit * k.reach, limit * k.reach);
-                const double l1 = n1 - k.jt1, l2 = n2 - k.jt2, ltw = ntw - k.jtw;
-                k.jt1 = n1, k.jt2 = n2, k.jtw = ntw;
-                if (l1 != 0 || l2 != 0 || ltw != 0) apply_central(k, l1, l2, ltw, bodies_);
-            }
-            if (!solve_block(k, jacobi ? from : bodies_)) { // its points one by one, as rows
-                Row* r = &rows_[k.first];
-                for (std::size_t j = 0; j < m; ++j) {
-                    r[j].jn = k.jn[j];
-                    normal(r[j]);
-                    k.jn[j] = r[j].jn;
-                }
-            }
+            solve_block_friction(k, from);
+            solve_block_normal(k, jacobi ? from : bodies_);
         }
     }
+    store_groups();
     // Back into the rows (store_cache): the normal impulses, and the centre's friction cached
     // with the first pressing point (warm_start sums them).
     for (const Block& k : blocks_) {

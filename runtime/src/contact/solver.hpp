@@ -158,6 +158,26 @@ struct Block {
     double last_inv[16];
 };
 
+/// Four blocks with the same point count on eight different bodies (pack_groups), laid out
+/// lane by lane so that a velocity pass solves them at once (wide_solver.cpp): their
+/// per-step constants, the impulses they accumulate, and the last set of pressing points that
+/// solved each, its inverse padded to the block's points (zero outside the set).
+struct WideGroup {
+    static constexpr int kLanes = 4;
+    static constexpr int L = kLanes;
+    std::uint32_t block[L], a[L], b[L];
+    int count = 0; // points per block (2 to 4)
+    alignas(64) double n[3][L], ra[3][L], rb[3][L], t1[3][L], t2[3][L], off[3][L];
+    double mt1[L], mt2[L], mtw[L], reach[L], mu[L];
+    double jt1[L], jt2[L], jtw[L];
+    double jn[4][L], bias[4][L];
+    double ua[4][3][L];
+    double k[16][L], inv[16][L];
+    double last[16][L];
+    double known[L];  // 1 where the lane's last set is known
+    double in[4][L];  // 1 where point j is in the lane's last set
+};
+
 inline double dot(const double* a, const double* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 inline void mul_sym(const double* m, const double* u, double* out) {
     out[0] = m[0] * u[0] + m[3] * u[1] + m[4] * u[2];
@@ -343,6 +363,11 @@ public:
             blocks_.reserve(contacts);
             schedule_.reserve(5 * contacts);
             pos_blocks_.reserve(contacts);
+            stamp_.reserve(n + 1);
+            taken_.reserve(5 * contacts);
+            sorted_.reserve(5 * contacts);
+            groups_.reserve(contacts / WideGroup::kLanes + 1);
+            group_start_.reserve(contacts / WideGroup::kLanes + 1);
         }
     }
 
@@ -395,6 +420,28 @@ private:
     void collisions(double dt);
     void solve_contacts();
     void setup_blocks();
+    /// Gauss–Seidel in a world of rigid bodies with shapes (options_.wide): WideGroups of four
+    /// blocks with the same point count on eight different bodies, each block moved ahead in
+    /// the schedule only past items on other bodies (so the pass's result is the schedule's).
+    void pack_groups();
+    /// The friction of a row (limited by its previous normal impulse) with the velocities of
+    /// `from`, applied to bodies_.
+    void solve_row_friction(Row& c, const std::vector<Body>& from);
+    /// The normal impulse of a row with the velocities of `from`, applied to bodies_.
+    void solve_row_normal(Row& c, const std::vector<Body>& from);
+    /// A block's friction and twist at its centre, limited by μ Σ jn of the previous pass.
+    void solve_block_friction(Block& k, const std::vector<Body>& from);
+    /// A block's normal impulses together (solve_block), or its points as rows when no set
+    /// solves them.
+    void solve_block_normal(Block& k, const std::vector<Body>& from);
+    /// WideGroups from blocks_ (after the warm start), and their impulses back into blocks_.
+    void load_groups();
+    void store_groups();
+    /// One velocity pass over a WideGroup of M-point blocks: solve_block_friction, then
+    /// solve_block_normal, for its four blocks at once — the same operations lane by lane; a
+    /// lane that neither the full set nor its last set solves goes through solve_block_normal.
+    template <int M>
+    void solve_group(WideGroup& g);
     /// The friction of a block at its centre (l1, l2 along t1, t2) and its twist ltw about n.
     void apply_central(const Block& k, double l1, double l2, double ltw, std::vector<Body>& B);
     /// The normal impulses of the block (k.jn, read against k.bias) with the velocities of
@@ -469,6 +516,13 @@ private:
     // block (−1 − its index) — so that a pass reads a block without its rows.
     std::vector<std::int64_t> schedule_;
     std::vector<Block> pos_blocks_; // correct_positions: K of each manifold, once a step
+    // pack_groups: a window stamp per body, whether each schedule item is in a group already,
+    // the reordered schedule, the groups and each group's first position in schedule_.
+    std::vector<std::uint32_t> stamp_;
+    std::vector<std::uint8_t> taken_;
+    std::vector<std::int64_t> sorted_;
+    std::vector<WideGroup> groups_;
+    std::vector<std::size_t> group_start_;
     std::size_t n_rigid_ = 0; // ids_: the rigid bodies, then the models' spheres
     std::size_t n_capsules_ = 0; // the models' capsules: scratch bodies after the static body
     std::size_t n_boxes_ = 0;    // the models' boxes: scratch bodies after the capsules

@@ -1,0 +1,339 @@
+// The velocity passes four manifolds at a time (solver.hpp, WideGroup): four blocks of the
+// same point count near each other in the schedule, on eight different bodies, solved in SIMD
+// lanes — the exact block LCP of solve_block, as Box2D v3 solves its contacts in wide lanes.
+// Box2D colours its constraint graph for that, which reorders the whole pass; a pile then
+// settles worse than in the schedule's order (bodies one after another), so here a block
+// joins a group only if it shares no body with the group or with any item it is moved ahead
+// of: it commutes with all of them, and the pass does exactly what the schedule's order does.
+// Each lane does the operations solve_block_friction and solve_block_normal do, in the same
+// order: the same bits as one block at a time wherever the compiler forms the same fused
+// multiply–adds (always without -march).
+#include "solver.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+namespace phynjo::runtime::contact_detail {
+
+namespace {
+
+/// How far ahead of a block pack_groups looks for its three partners, items.
+constexpr std::size_t kWindow = 48;
+
+} // namespace
+
+void Solver::pack_groups() {
+    groups_.clear();
+    group_start_.clear();
+    if (!options_.wide || options_.scheme != ContactScheme::gauss_seidel || !models_.empty() || shape_field_ < 0) return;
+    const std::size_t fixed = ids_.size(); // the static body: read by any number of items, never changed
+    const std::size_t items = schedule_.size();
+    // stamp_[x]: the window (its number) that last marked body x: 2w as a member of the
+    // group being packed, 2w + 1 as a body of an item the members would be moved ahead of.
+    stamp_.assign(bodies_.size(), 0);
+    taken_.assign(items, 0);
+    sorted_.clear();
+    std::uint32_t window = 0;
+    auto bodies_of = [&](std::int64_t item, std::uint32_t& a, std::uint32_t& b) -> std::size_t {
+        if (item >= 0) {
+            a = rows_[static_cast<std::size_t>(item)].a, b = rows_[static_cast<std::size_t>(item)].b;
+            return 1;
+        }
+        const Block& k = blocks_[static_cast<std::size_t>(-1 - item)];
+        a = k.a, b = k.b;
+        return k.count;
+    };
+    for (std::size_t at = 0; at < items; ++at) {
+        if (taken_[at]) continue;
+        const std::int64_t item = schedule_[at];
+        std::uint32_t a, b;
+        const std::size_t count = bodies_of(item, a, b);
+        if (item >= 0 || count < 2) {
+            sorted_.push_back(item);
+            continue;
+        }
+        ++window;
+        const std::uint32_t member = 2 * window, passed = 2 * window + 1;
+        std::size_t found[WideGroup::kLanes] = {at};
+        int n = 1;
+        stamp_[a] = member;
+        if (b != fixed) stamp_[b] = member;
+        for (std::size_t j = at + 1; j < items && j <= at + kWindow && n < WideGroup::kLanes; ++j) {
+            if (taken_[j]) continue; // done already, before this group
+            std::uint32_t xa, xb;
+            const std::size_t xc = bodies_of(schedule_[j], xa, xb);
+            const bool free_a = stamp_[xa] != member && stamp_[xa] != passed;
+            const bool free_b = xb == fixed || (stamp_[xb] != member && stamp_[xb] != passed);
+            if (schedule_[j] < 0 && xc == count && free_a && free_b) {
+                found[n++] = j;
+                stamp_[xa] = member;
+                if (xb != fixed) stamp_[xb] = member;
+                continue;
+            }
+            // j stays behind the group: whatever is moved ahead must not touch its bodies.
+            if (stamp_[xa] != member) stamp_[xa] = passed;
+            if (xb != fixed && stamp_[xb] != member) stamp_[xb] = passed;
+        }
+        if (n < WideGroup::kLanes) {
+            sorted_.push_back(item);
+            continue;
+        }
+        group_start_.push_back(sorted_.size());
+        groups_.emplace_back();
+        WideGroup& g = groups_.back();
+        g.count = static_cast<int>(count);
+        for (int l = 0; l < WideGroup::kLanes; ++l) {
+            taken_[found[l]] = 1;
+            sorted_.push_back(schedule_[found[l]]);
+            g.block[l] = static_cast<std::uint32_t>(-1 - schedule_[found[l]]);
+        }
+    }
+    schedule_.swap(sorted_);
+}
+
+namespace {
+
+/// The lane's last set and its inverse, padded: E[i][j] = (K_SS + 1e-9 diag)⁻¹ at the places
+/// of points i, j of S, zero elsewhere (try_set's sums over S, with zero terms between).
+void pad_last(const Block& k, WideGroup& g, int l) {
+    g.known[l] = k.last_known ? 1 : 0;
+    for (int j = 0; j < 4; ++j) g.in[j][l] = k.last_known && (k.last_set & (1u << j)) != 0 ? 1 : 0;
+    for (int e = 0; e < 16; ++e) g.last[e][l] = 0;
+    if (!k.last_known) return;
+    int idx[4], n = 0;
+    for (int j = 0; j < 4; ++j)
+        if (k.last_set & (1u << j)) idx[n++] = j;
+    for (int p = 0; p < n; ++p)
+        for (int q = 0; q < n; ++q) g.last[4 * idx[p] + idx[q]][l] = k.last_inv[4 * p + q];
+}
+
+} // namespace
+
+void Solver::load_groups() {
+    for (WideGroup& g : groups_) {
+        for (int l = 0; l < WideGroup::kLanes; ++l) {
+            const Block& k = blocks_[g.block[l]];
+            g.a[l] = k.a, g.b[l] = k.b;
+            for (int d = 0; d < 3; ++d) {
+                g.n[d][l] = k.n[d], g.ra[d][l] = k.ra[d], g.rb[d][l] = k.rb[d];
+                g.t1[d][l] = k.t1[d], g.t2[d][l] = k.t2[d], g.off[d][l] = k.off[d];
+            }
+            g.mt1[l] = k.mt1, g.mt2[l] = k.mt2, g.mtw[l] = k.mtw, g.reach[l] = k.reach, g.mu[l] = k.mu;
+            g.jt1[l] = k.jt1, g.jt2[l] = k.jt2, g.jtw[l] = k.jtw;
+            for (int j = 0; j < 4; ++j) {
+                g.jn[j][l] = k.jn[j], g.bias[j][l] = k.bias[j];
+                for (int d = 0; d < 3; ++d) g.ua[j][d][l] = k.ua[j][d];
+            }
+            for (int e = 0; e < 16; ++e) g.k[e][l] = k.k[e], g.inv[e][l] = k.inv[e];
+            pad_last(k, g, l); // the collisions may have solved the block already
+        }
+    }
+}
+
+void Solver::store_groups() {
+    for (const WideGroup& g : groups_)
+        for (int l = 0; l < WideGroup::kLanes; ++l) {
+            Block& k = blocks_[g.block[l]];
+            k.jt1 = g.jt1[l], k.jt2 = g.jt2[l], k.jtw = g.jtw[l];
+            for (int j = 0; j < 4; ++j) k.jn[j] = g.jn[j][l];
+        }
+}
+
+
+// The helpers below take and return 32-byte vectors; in a build without AVX GCC warns that
+// such a function's ABI differs from an AVX build's. They are internal and inlined: no ABI.
+#pragma GCC diagnostic ignored "-Wpsabi"
+
+namespace {
+
+// Four doubles, and four lane masks (all bits set where true), as GCC's vector extensions: one
+// AVX register under -march with AVX, two SSE2 registers without.
+using V = double __attribute__((vector_size(32)));
+using Mask = long long __attribute__((vector_size(32)));
+
+V load(const double* p) {
+    V v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+}
+void store(double* p, V v) { std::memcpy(p, &v, sizeof v); }
+V splat(double x) { return V{x, x, x, x}; }
+V select(Mask m, V a, V b) { return m ? a : b; }
+
+} // namespace
+
+template <int M>
+void Solver::solve_group(WideGroup& g) {
+    static_assert(WideGroup::kLanes == 4);
+    // The lanes' bodies (distinct: pack_groups).
+    const Body* A[4] = {&bodies_[g.a[0]], &bodies_[g.a[1]], &bodies_[g.a[2]], &bodies_[g.a[3]]};
+    const Body* B[4] = {&bodies_[g.b[0]], &bodies_[g.b[1]], &bodies_[g.b[2]], &bodies_[g.b[3]]};
+    V av[3], aw[3], bv[3], bw[3], aii[6], bii[6];
+    for (int d = 0; d < 3; ++d) {
+        av[d] = V{A[0]->v[d], A[1]->v[d], A[2]->v[d], A[3]->v[d]};
+        aw[d] = V{A[0]->w[d], A[1]->w[d], A[2]->w[d], A[3]->w[d]};
+        bv[d] = V{B[0]->v[d], B[1]->v[d], B[2]->v[d], B[3]->v[d]};
+        bw[d] = V{B[0]->w[d], B[1]->w[d], B[2]->w[d], B[3]->w[d]};
+    }
+    for (int e = 0; e < 6; ++e) {
+        aii[e] = V{A[0]->ii[e], A[1]->ii[e], A[2]->ii[e], A[3]->ii[e]};
+        bii[e] = V{B[0]->ii[e], B[1]->ii[e], B[2]->ii[e], B[3]->ii[e]};
+    }
+    const V aim{A[0]->im, A[1]->im, A[2]->im, A[3]->im}, bim{B[0]->im, B[1]->im, B[2]->im, B[3]->im};
+    V n[3], ra[3], rb[3];
+    for (int d = 0; d < 3; ++d) n[d] = load(g.n[d]), ra[d] = load(g.ra[d]), rb[d] = load(g.rb[d]);
+    const V zero = splat(0);
+    // solve_block_friction and apply_central.
+    {
+        const V wa0 = aw[1] * ra[2] - aw[2] * ra[1], wa1 = aw[2] * ra[0] - aw[0] * ra[2], wa2 = aw[0] * ra[1] - aw[1] * ra[0];
+        const V wb0 = bw[1] * rb[2] - bw[2] * rb[1], wb1 = bw[2] * rb[0] - bw[0] * rb[2], wb2 = bw[0] * rb[1] - bw[1] * rb[0];
+        const V dv0 = av[0] + wa0 - bv[0] - wb0, dv1 = av[1] + wa1 - bv[1] - wb1, dv2 = av[2] + wa2 - bv[2] - wb2;
+        V load_sum = zero;
+        for (int j = 0; j < M; ++j) load_sum += load(g.jn[j]);
+        const V limit = load(g.mu) * load_sum;
+        const V t10 = load(g.t1[0]), t11 = load(g.t1[1]), t12 = load(g.t1[2]);
+        const V t20 = load(g.t2[0]), t21 = load(g.t2[1]), t22 = load(g.t2[2]);
+        const V jt1 = load(g.jt1), jt2 = load(g.jt2), jtw = load(g.jtw);
+        V n1 = jt1 - (dv0 * t10 + dv1 * t11 + dv2 * t12) * load(g.mt1);
+        V n2 = jt2 - (dv0 * t20 + dv1 * t21 + dv2 * t22) * load(g.mt2);
+        { // clamp_disk
+            const Mask outside = n1 * n1 + n2 * n2 > limit * limit;
+            const V q = n1 * n1 + n2 * n2;
+            V mag;
+            for (int l = 0; l < 4; ++l) mag[l] = std::sqrt(q[l]);
+            const V s = select(mag > 0, limit / mag, zero);
+            const Mask scale = outside & (mag > limit);
+            n1 = select(scale, n1 * s, n1);
+            n2 = select(scale, n2 * s, n2);
+        }
+        const V wn = (aw[0] - bw[0]) * n[0] + (aw[1] - bw[1]) * n[1] + (aw[2] - bw[2]) * n[2];
+        const V tw = jtw - wn * load(g.mtw), reach = load(g.reach);
+        const V lo = -limit * reach, hi = limit * reach;
+        const V ntw = select(tw < lo, lo, select(hi < tw, hi, tw)); // std::clamp
+        const V l1 = n1 - jt1, l2 = n2 - jt2, ltw = ntw - jtw;
+        store(g.jt1, n1), store(g.jt2, n2), store(g.jtw, ntw);
+        const Mask apply = (l1 != 0) | (l2 != 0) | (ltw != 0);
+        const V p0 = l1 * t10 + l2 * t20, p1 = l1 * t11 + l2 * t21, p2 = l1 * t12 + l2 * t22;
+        const V u0 = ra[1] * p2 - ra[2] * p1 + ltw * n[0];
+        const V u1 = ra[2] * p0 - ra[0] * p2 + ltw * n[1];
+        const V u2 = ra[0] * p1 - ra[1] * p0 + ltw * n[2];
+        const V s0 = rb[1] * p2 - rb[2] * p1 + ltw * n[0];
+        const V s1 = rb[2] * p0 - rb[0] * p2 + ltw * n[1];
+        const V s2 = rb[0] * p1 - rb[1] * p0 + ltw * n[2];
+        const V ia0 = aii[0] * u0 + aii[3] * u1 + aii[4] * u2;
+        const V ia1 = aii[3] * u0 + aii[1] * u1 + aii[5] * u2;
+        const V ia2 = aii[4] * u0 + aii[5] * u1 + aii[2] * u2;
+        const V ib0 = bii[0] * s0 + bii[3] * s1 + bii[4] * s2;
+        const V ib1 = bii[3] * s0 + bii[1] * s1 + bii[5] * s2;
+        const V ib2 = bii[4] * s0 + bii[5] * s1 + bii[2] * s2;
+        av[0] = select(apply, av[0] + aim * p0, av[0]);
+        av[1] = select(apply, av[1] + aim * p1, av[1]);
+        av[2] = select(apply, av[2] + aim * p2, av[2]);
+        bv[0] = select(apply, bv[0] - bim * p0, bv[0]);
+        bv[1] = select(apply, bv[1] - bim * p1, bv[1]);
+        bv[2] = select(apply, bv[2] - bim * p2, bv[2]);
+        aw[0] = select(apply, aw[0] + ia0, aw[0]);
+        aw[1] = select(apply, aw[1] + ia1, aw[1]);
+        aw[2] = select(apply, aw[2] + ia2, aw[2]);
+        bw[0] = select(apply, bw[0] - ib0, bw[0]);
+        bw[1] = select(apply, bw[1] - ib1, bw[1]);
+        bw[2] = select(apply, bw[2] - ib2, bw[2]);
+    }
+    // solve_block: b = v − K a, the full set, then the last set; the lanes neither solves
+    // go through solve_block_normal once the others are stored.
+    V off[3];
+    for (int d = 0; d < 3; ++d) off[d] = load(g.off[d]);
+    const V vn = (av[0] - bv[0]) * n[0] + (av[1] - bv[1]) * n[1] + (av[2] - bv[2]) * n[2] -
+                 (bw[0] * off[0] + bw[1] * off[1] + bw[2] * off[2]);
+    const V dw0 = aw[0] - bw[0], dw1 = aw[1] - bw[1], dw2 = aw[2] - bw[2];
+    V jn[M], b[M], r[M], x[M], y[M], ua[M][3];
+    for (int i = 0; i < M; ++i) {
+        jn[i] = load(g.jn[i]);
+        for (int d = 0; d < 3; ++d) ua[i][d] = load(g.ua[i][d]);
+    }
+    for (int i = 0; i < M; ++i) {
+        b[i] = vn + (dw0 * ua[i][0] + dw1 * ua[i][1] + dw2 * ua[i][2]);
+        for (int j = 0; j < M; ++j) b[i] -= load(g.k[4 * i + j]) * jn[j];
+        r[i] = load(g.bias[i]) - b[i];
+    }
+    // try_full: (K's pseudo-inverse)(bias − b) ≥ 0.
+    Mask full = zero == zero;
+    for (int p = 0; p < M; ++p) {
+        x[p] = zero;
+        for (int q = 0; q < M; ++q) x[p] += load(g.inv[4 * p + q]) * r[q];
+        full &= x[p] >= 0;
+    }
+    // try_set on the last set: its padded inverse, zero terms between the set's points.
+    Mask last = load(g.known) != 0;
+    Mask in[M];
+    for (int p = 0; p < M; ++p) {
+        in[p] = load(g.in[p]) != 0;
+        y[p] = zero;
+        for (int q = 0; q < M; ++q) y[p] += load(g.last[4 * p + q]) * r[q];
+        last &= ~in[p] | (y[p] >= 0);
+        y[p] = select(in[p], y[p], zero);
+    }
+    for (int i = 0; i < M; ++i) { // the points left out must not sink
+        V w = b[i];
+        for (int j = 0; j < M; ++j) w += load(g.k[4 * i + j]) * y[j];
+        const V bias = load(g.bias[i]);
+        const V size = select(bias < 0, -bias, bias); // std::abs
+        last &= in[i] | ~(w < bias - 1e-12 * (1 + size));
+    }
+    // The solved lanes' impulses applied (solve_block's tail).
+    const Mask solved = full | last;
+    V total = zero, u0 = zero, u1 = zero, u2 = zero;
+    for (int j = 0; j < M; ++j) {
+        const V xj = select(full, x[j], y[j]);
+        const V lj = xj - jn[j];
+        store(g.jn[j], select(solved, xj, jn[j]));
+        total += lj;
+        u0 += lj * ua[j][0];
+        u1 += lj * ua[j][1];
+        u2 += lj * ua[j][2];
+    }
+    const V wa0 = aii[0] * u0 + aii[3] * u1 + aii[4] * u2;
+    const V wa1 = aii[3] * u0 + aii[1] * u1 + aii[5] * u2;
+    const V wa2 = aii[4] * u0 + aii[5] * u1 + aii[2] * u2;
+    u0 += total * off[0];
+    u1 += total * off[1];
+    u2 += total * off[2];
+    const V wb0 = bii[0] * u0 + bii[3] * u1 + bii[4] * u2;
+    const V wb1 = bii[3] * u0 + bii[1] * u1 + bii[5] * u2;
+    const V wb2 = bii[4] * u0 + bii[5] * u1 + bii[2] * u2;
+    av[0] = select(solved, av[0] + aim * total * n[0], av[0]);
+    av[1] = select(solved, av[1] + aim * total * n[1], av[1]);
+    av[2] = select(solved, av[2] + aim * total * n[2], av[2]);
+    bv[0] = select(solved, bv[0] - bim * total * n[0], bv[0]);
+    bv[1] = select(solved, bv[1] - bim * total * n[1], bv[1]);
+    bv[2] = select(solved, bv[2] - bim * total * n[2], bv[2]);
+    aw[0] = select(solved, aw[0] + wa0, aw[0]);
+    aw[1] = select(solved, aw[1] + wa1, aw[1]);
+    aw[2] = select(solved, aw[2] + wa2, aw[2]);
+    bw[0] = select(solved, bw[0] - wb0, bw[0]);
+    bw[1] = select(solved, bw[1] - wb1, bw[1]);
+    bw[2] = select(solved, bw[2] - wb2, bw[2]);
+    const std::size_t fixed = ids_.size();
+    for (int l = 0; l < 4; ++l) {
+        Body& X = bodies_[g.a[l]];
+        for (int d = 0; d < 3; ++d) X.v[d] = av[d][l], X.w[d] = aw[d][l];
+        if (g.b[l] == fixed) continue; // the static body stays at rest
+        Body& Y = bodies_[g.b[l]];
+        for (int d = 0; d < 3; ++d) Y.v[d] = bv[d][l], Y.w[d] = bw[d][l];
+    }
+    for (int l = 0; l < 4; ++l) {
+        if (solved[l] != 0) continue;
+        Block& k = blocks_[g.block[l]];
+        for (int j = 0; j < 4; ++j) k.jn[j] = g.jn[j][l];
+        solve_block_normal(k, bodies_);
+        for (int j = 0; j < 4; ++j) g.jn[j][l] = k.jn[j];
+        pad_last(k, g, l);
+    }
+}
+
+template void Solver::solve_group<2>(WideGroup&);
+template void Solver::solve_group<3>(WideGroup&);
+template void Solver::solve_group<4>(WideGroup&);
+
+} // namespace phynjo::runtime::contact_detail
