@@ -632,6 +632,7 @@ void Solver::solve_contacts() {
             if (group < groups_.size() && group_start_[group] == at) {
                 WideGroup& g = groups_[group++];
                 switch (g.count) {
+                case 1: solve_rows(g); break;
                 case 2: solve_group<2>(g); break;
                 case 3: solve_group<3>(g); break;
                 default: solve_group<4>(g); break;

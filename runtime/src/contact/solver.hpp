@@ -158,17 +158,18 @@ struct Block {
     double last_inv[16];
 };
 
-/// Four blocks with the same point count on eight different bodies (pack_groups), laid out
-/// lane by lane so that a velocity pass solves them at once (wide_solver.cpp): their
+/// Four blocks with the same point count (or four point rows) on eight different bodies
+/// (pack_groups), laid out lane by lane so that a velocity pass solves them at once (wide_solver.cpp): their
 /// per-step constants, the impulses they accumulate, and the last set of pressing points that
 /// solved each, its inverse padded to the block's points (zero outside the set).
 struct WideGroup {
     static constexpr int kLanes = 4;
     static constexpr int L = kLanes;
     std::uint32_t block[L], a[L], b[L];
-    int count = 0; // points per block (2 to 4)
+    int count = 0; // points per block (2 to 4); 1: four point rows (block: their rows; ra, rb
+                   // their lever arms xa, xb; jn[0], bias[0] and mn their normal's)
     alignas(64) double n[3][L], ra[3][L], rb[3][L], t1[3][L], t2[3][L], off[3][L];
-    double mt1[L], mt2[L], mtw[L], reach[L], mu[L];
+    double mt1[L], mt2[L], mtw[L], reach[L], mu[L], mn[L];
     double jt1[L], jt2[L], jtw[L];
     double jn[4][L], bias[4][L];
     double ua[4][3][L];
@@ -442,6 +443,9 @@ private:
     /// lane that neither the full set nor its last set solves goes through solve_block_normal.
     template <int M>
     void solve_group(WideGroup& g);
+    /// One velocity pass over a WideGroup of four point rows: solve_row_friction, then
+    /// solve_row_normal, at once.
+    void solve_rows(WideGroup& g);
     /// The friction of a block at its centre (l1, l2 along t1, t2) and its twist ltw about n.
     void apply_central(const Block& k, double l1, double l2, double ltw, std::vector<Body>& B);
     /// The normal impulses of the block (k.jn, read against k.bias) with the velocities of

@@ -35,10 +35,13 @@ void Solver::pack_groups() {
     taken_.assign(items, 0);
     sorted_.clear();
     std::uint32_t window = 0;
+    // An item's bodies and its kind: a block's point count, 1 for a point row (a manifold of
+    // one point), 0 for a sphere's row (never in a group).
     auto bodies_of = [&](std::int64_t item, std::uint32_t& a, std::uint32_t& b) -> std::size_t {
         if (item >= 0) {
-            a = rows_[static_cast<std::size_t>(item)].a, b = rows_[static_cast<std::size_t>(item)].b;
-            return 1;
+            const Row& c = rows_[static_cast<std::size_t>(item)];
+            a = c.a, b = c.b;
+            return c.point ? 1 : 0;
         }
         const Block& k = blocks_[static_cast<std::size_t>(-1 - item)];
         a = k.a, b = k.b;
@@ -49,7 +52,7 @@ void Solver::pack_groups() {
         const std::int64_t item = schedule_[at];
         std::uint32_t a, b;
         const std::size_t count = bodies_of(item, a, b);
-        if (item >= 0 || count < 2) {
+        if (count == 0) {
             sorted_.push_back(item);
             continue;
         }
@@ -65,7 +68,7 @@ void Solver::pack_groups() {
             const std::size_t xc = bodies_of(schedule_[j], xa, xb);
             const bool free_a = stamp_[xa] != member && stamp_[xa] != passed;
             const bool free_b = xb == fixed || (stamp_[xb] != member && stamp_[xb] != passed);
-            if (schedule_[j] < 0 && xc == count && free_a && free_b) {
+            if (xc == count && free_a && free_b) {
                 found[n++] = j;
                 stamp_[xa] = member;
                 if (xb != fixed) stamp_[xb] = member;
@@ -86,7 +89,8 @@ void Solver::pack_groups() {
         for (int l = 0; l < WideGroup::kLanes; ++l) {
             taken_[found[l]] = 1;
             sorted_.push_back(schedule_[found[l]]);
-            g.block[l] = static_cast<std::uint32_t>(-1 - schedule_[found[l]]);
+            const std::int64_t x = schedule_[found[l]];
+            g.block[l] = static_cast<std::uint32_t>(x < 0 ? -1 - x : x);
         }
     }
     schedule_.swap(sorted_);
@@ -112,6 +116,19 @@ void pad_last(const Block& k, WideGroup& g, int l) {
 
 void Solver::load_groups() {
     for (WideGroup& g : groups_) {
+        if (g.count == 1) { // point rows: ra, rb their lever arms, jn[0], bias[0]
+            for (int l = 0; l < WideGroup::kLanes; ++l) {
+                const Row& c = rows_[g.block[l]];
+                g.a[l] = c.a, g.b[l] = c.b;
+                for (int d = 0; d < 3; ++d) {
+                    g.n[d][l] = c.n[d], g.ra[d][l] = c.xa[d], g.rb[d][l] = c.xb[d];
+                    g.t1[d][l] = c.t1[d], g.t2[d][l] = c.t2[d];
+                }
+                g.mn[l] = c.mn, g.mt1[l] = c.mt1, g.mt2[l] = c.mt2, g.mu[l] = c.mu;
+                g.jn[0][l] = c.jn, g.jt1[l] = c.jt1, g.jt2[l] = c.jt2, g.bias[0][l] = c.bias;
+            }
+            continue;
+        }
         for (int l = 0; l < WideGroup::kLanes; ++l) {
             const Block& k = blocks_[g.block[l]];
             g.a[l] = k.a, g.b[l] = k.b;
@@ -134,6 +151,11 @@ void Solver::load_groups() {
 void Solver::store_groups() {
     for (const WideGroup& g : groups_)
         for (int l = 0; l < WideGroup::kLanes; ++l) {
+            if (g.count == 1) {
+                Row& c = rows_[g.block[l]];
+                c.jn = g.jn[0][l], c.jt1 = g.jt1[l], c.jt2 = g.jt2[l];
+                continue;
+            }
             Block& k = blocks_[g.block[l]];
             k.jt1 = g.jt1[l], k.jt2 = g.jt2[l], k.jtw = g.jtw[l];
             for (int j = 0; j < 4; ++j) k.jn[j] = g.jn[j][l];
@@ -329,6 +351,99 @@ void Solver::solve_group(WideGroup& g) {
         solve_block_normal(k, bodies_);
         for (int j = 0; j < 4; ++j) g.jn[j][l] = k.jn[j];
         pad_last(k, g, l);
+    }
+}
+
+void Solver::solve_rows(WideGroup& g) {
+    // solve_row_friction then solve_row_normal of four point rows (apply_point on both sides).
+    const Body* A[4] = {&bodies_[g.a[0]], &bodies_[g.a[1]], &bodies_[g.a[2]], &bodies_[g.a[3]]};
+    const Body* B[4] = {&bodies_[g.b[0]], &bodies_[g.b[1]], &bodies_[g.b[2]], &bodies_[g.b[3]]};
+    V av[3], aw[3], bv[3], bw[3], aii[6], bii[6];
+    for (int d = 0; d < 3; ++d) {
+        av[d] = V{A[0]->v[d], A[1]->v[d], A[2]->v[d], A[3]->v[d]};
+        aw[d] = V{A[0]->w[d], A[1]->w[d], A[2]->w[d], A[3]->w[d]};
+        bv[d] = V{B[0]->v[d], B[1]->v[d], B[2]->v[d], B[3]->v[d]};
+        bw[d] = V{B[0]->w[d], B[1]->w[d], B[2]->w[d], B[3]->w[d]};
+    }
+    for (int e = 0; e < 6; ++e) {
+        aii[e] = V{A[0]->ii[e], A[1]->ii[e], A[2]->ii[e], A[3]->ii[e]};
+        bii[e] = V{B[0]->ii[e], B[1]->ii[e], B[2]->ii[e], B[3]->ii[e]};
+    }
+    const V aim{A[0]->im, A[1]->im, A[2]->im, A[3]->im}, bim{B[0]->im, B[1]->im, B[2]->im, B[3]->im};
+    V xa[3], xb[3], n[3], t1[3], t2[3];
+    for (int d = 0; d < 3; ++d)
+        xa[d] = load(g.ra[d]), xb[d] = load(g.rb[d]), n[d] = load(g.n[d]), t1[d] = load(g.t1[d]), t2[d] = load(g.t2[d]);
+    const V zero = splat(0);
+    // point_velocity: (v_a + ω_a × r_a) − (v_b + ω_b × r_b).
+    auto velocity = [&](V* dv) {
+        const V wa0 = aw[1] * xa[2] - aw[2] * xa[1], wa1 = aw[2] * xa[0] - aw[0] * xa[2], wa2 = aw[0] * xa[1] - aw[1] * xa[0];
+        const V wb0 = bw[1] * xb[2] - bw[2] * xb[1], wb1 = bw[2] * xb[0] - bw[0] * xb[2], wb2 = bw[0] * xb[1] - bw[1] * xb[0];
+        dv[0] = av[0] + wa0 - bv[0] - wb0;
+        dv[1] = av[1] + wa1 - bv[1] - wb1;
+        dv[2] = av[2] + wa2 - bv[2] - wb2;
+    };
+    // apply_point(p) where `go`.
+    auto apply = [&](Mask go, V p0, V p1, V p2) {
+        const V u0 = xa[1] * p2 - xa[2] * p1, u1 = xa[2] * p0 - xa[0] * p2, u2 = xa[0] * p1 - xa[1] * p0;
+        const V s0 = xb[1] * p2 - xb[2] * p1, s1 = xb[2] * p0 - xb[0] * p2, s2 = xb[0] * p1 - xb[1] * p0;
+        const V ia0 = aii[0] * u0 + aii[3] * u1 + aii[4] * u2;
+        const V ia1 = aii[3] * u0 + aii[1] * u1 + aii[5] * u2;
+        const V ia2 = aii[4] * u0 + aii[5] * u1 + aii[2] * u2;
+        const V ib0 = bii[0] * s0 + bii[3] * s1 + bii[4] * s2;
+        const V ib1 = bii[3] * s0 + bii[1] * s1 + bii[5] * s2;
+        const V ib2 = bii[4] * s0 + bii[5] * s1 + bii[2] * s2;
+        av[0] = select(go, av[0] + aim * p0, av[0]);
+        av[1] = select(go, av[1] + aim * p1, av[1]);
+        av[2] = select(go, av[2] + aim * p2, av[2]);
+        aw[0] = select(go, aw[0] + ia0, aw[0]);
+        aw[1] = select(go, aw[1] + ia1, aw[1]);
+        aw[2] = select(go, aw[2] + ia2, aw[2]);
+        bv[0] = select(go, bv[0] - bim * p0, bv[0]);
+        bv[1] = select(go, bv[1] - bim * p1, bv[1]);
+        bv[2] = select(go, bv[2] - bim * p2, bv[2]);
+        bw[0] = select(go, bw[0] - ib0, bw[0]);
+        bw[1] = select(go, bw[1] - ib1, bw[1]);
+        bw[2] = select(go, bw[2] - ib2, bw[2]);
+    };
+    V dv[3];
+    const V jn = load(g.jn[0]);
+    {
+        velocity(dv);
+        const V vt1 = dv[0] * t1[0] + dv[1] * t1[1] + dv[2] * t1[2];
+        const V vt2 = dv[0] * t2[0] + dv[1] * t2[1] + dv[2] * t2[2];
+        const V jt1 = load(g.jt1), jt2 = load(g.jt2);
+        V n1 = jt1 - vt1 * load(g.mt1), n2 = jt2 - vt2 * load(g.mt2);
+        const V limit = load(g.mu) * jn;
+        { // clamp_disk
+            const Mask outside = n1 * n1 + n2 * n2 > limit * limit;
+            const V q = n1 * n1 + n2 * n2;
+            V mag;
+            for (int l = 0; l < 4; ++l) mag[l] = std::sqrt(q[l]);
+            const V s = select(mag > 0, limit / mag, zero);
+            const Mask scale = outside & (mag > limit);
+            n1 = select(scale, n1 * s, n1);
+            n2 = select(scale, n2 * s, n2);
+        }
+        const V l1 = n1 - jt1, l2 = n2 - jt2;
+        store(g.jt1, n1), store(g.jt2, n2);
+        apply((l1 != 0) | (l2 != 0), l1 * t1[0] + l2 * t2[0], l1 * t1[1] + l2 * t2[1], l1 * t1[2] + l2 * t2[2]);
+    }
+    {
+        velocity(dv);
+        const V vn = dv[0] * n[0] + dv[1] * n[1] + dv[2] * n[2];
+        const V want = jn - (vn - load(g.bias[0])) * load(g.mn);
+        const V next = select(want < 0, zero, want); // std::max(want, 0.0)
+        const V l = next - jn;
+        store(g.jn[0], next);
+        apply(l != 0, l * n[0], l * n[1], l * n[2]);
+    }
+    const std::size_t fixed = ids_.size();
+    for (int l = 0; l < 4; ++l) {
+        Body& X = bodies_[g.a[l]];
+        for (int d = 0; d < 3; ++d) X.v[d] = av[d][l], X.w[d] = aw[d][l];
+        if (g.b[l] == fixed) continue; // the static body stays at rest
+        Body& Y = bodies_[g.b[l]];
+        for (int d = 0; d < 3; ++d) Y.v[d] = bv[d][l], Y.w[d] = bw[d][l];
     }
 }
 
