@@ -366,6 +366,7 @@ public:
             pos_blocks_.reserve(contacts);
             stamp_.reserve(n + 1);
             taken_.reserve(5 * contacts);
+            item_bodies_.reserve(5 * contacts);
             sorted_.reserve(5 * contacts);
             groups_.reserve(contacts / WideGroup::kLanes + 1);
             group_start_.reserve(contacts / WideGroup::kLanes + 1);
@@ -522,6 +523,10 @@ private:
     std::vector<Block> pos_blocks_; // correct_positions: K of each manifold, once a step
     // pack_groups: a window stamp per body, whether each schedule item is in a group already,
     // the reordered schedule, the groups and each group's first position in schedule_.
+    struct ItemBodies {
+        std::uint32_t a, b, kind;
+    };
+    std::vector<ItemBodies> item_bodies_;
     std::vector<std::uint32_t> stamp_;
     std::vector<std::uint8_t> taken_;
     std::vector<std::int64_t> sorted_;

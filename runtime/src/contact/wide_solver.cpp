@@ -35,24 +35,30 @@ void Solver::pack_groups() {
     taken_.assign(items, 0);
     sorted_.clear();
     std::uint32_t window = 0;
-    // An item's bodies and its kind: a block's point count, 1 for a point row (a manifold of
-    // one point), 0 for a sphere's row (never in a group).
-    auto bodies_of = [&](std::int64_t item, std::uint32_t& a, std::uint32_t& b) -> std::size_t {
+    // Each item's bodies and its kind: a block's point count, 1 for a point row (a manifold
+    // of one point), 0 for a sphere's row (never in a group); and the items of each kind not
+    // yet placed (a kind with fewer than four left makes no group).
+    item_bodies_.resize(items);
+    std::size_t left[5] = {0, 0, 0, 0, 0};
+    for (std::size_t at = 0; at < items; ++at) {
+        const std::int64_t item = schedule_[at];
+        ItemBodies& x = item_bodies_[at];
         if (item >= 0) {
             const Row& c = rows_[static_cast<std::size_t>(item)];
-            a = c.a, b = c.b;
-            return c.point ? 1 : 0;
+            x = {c.a, c.b, c.point ? 1u : 0u};
+        } else {
+            const Block& k = blocks_[static_cast<std::size_t>(-1 - item)];
+            x = {k.a, k.b, static_cast<std::uint32_t>(k.count)};
         }
-        const Block& k = blocks_[static_cast<std::size_t>(-1 - item)];
-        a = k.a, b = k.b;
-        return k.count;
-    };
+        ++left[x.kind];
+    }
     for (std::size_t at = 0; at < items; ++at) {
         if (taken_[at]) continue;
         const std::int64_t item = schedule_[at];
-        std::uint32_t a, b;
-        const std::size_t count = bodies_of(item, a, b);
-        if (count == 0) {
+        const std::uint32_t a = item_bodies_[at].a, b = item_bodies_[at].b;
+        const std::size_t count = item_bodies_[at].kind;
+        if (count == 0 || left[count] < WideGroup::kLanes) {
+            --left[count];
             sorted_.push_back(item);
             continue;
         }
@@ -64,8 +70,8 @@ void Solver::pack_groups() {
         if (b != fixed) stamp_[b] = member;
         for (std::size_t j = at + 1; j < items && j <= at + kWindow && n < WideGroup::kLanes; ++j) {
             if (taken_[j]) continue; // done already, before this group
-            std::uint32_t xa, xb;
-            const std::size_t xc = bodies_of(schedule_[j], xa, xb);
+            const std::uint32_t xa = item_bodies_[j].a, xb = item_bodies_[j].b;
+            const std::size_t xc = item_bodies_[j].kind;
             const bool free_a = stamp_[xa] != member && stamp_[xa] != passed;
             const bool free_b = xb == fixed || (stamp_[xb] != member && stamp_[xb] != passed);
             if (xc == count && free_a && free_b) {
@@ -79,9 +85,11 @@ void Solver::pack_groups() {
             if (xb != fixed && stamp_[xb] != member) stamp_[xb] = passed;
         }
         if (n < WideGroup::kLanes) {
+            --left[count];
             sorted_.push_back(item);
             continue;
         }
+        left[count] -= WideGroup::kLanes;
         group_start_.push_back(sorted_.size());
         groups_.emplace_back();
         WideGroup& g = groups_.back();
