@@ -204,6 +204,25 @@ void UniformGrid::find_pairs(std::span<const AABB> boxes, std::vector<CandidateP
         std::int64_t cx, cy, cz;
         unpack(keys_[i], cx, cy, cz);
         scratch_.clear();
+        if (dense) {
+            // A row of three cells along x is one run of sorted_ (the table orders its cells
+            // x fastest): nine runs, each box beyond i in them tested.
+            const std::int64_t x0 = std::max<std::int64_t>(cx - 1, 0), x1 = std::min<std::int64_t>(cx + 1, ext[0] - 1);
+            for (std::int64_t dz = -1; dz <= 1; ++dz)
+                for (std::int64_t dy = -1; dy <= 1; ++dy) {
+                    const std::int64_t y = cy + dy, z = cz + dz;
+                    if (y < 0 || z < 0 || y >= ext[1] || z >= ext[2]) continue;
+                    const std::size_t first = dense_slot(x0, y, z), last = dense_slot(x1, y, z);
+                    const std::uint32_t b = table_begin_[first], e = table_begin_[last] + table_count_[last];
+                    for (std::uint32_t k = b; k < e; ++k) {
+                        const Index j = sorted_[k];
+                        if (j > i && intersects(boxes[i], boxes[j])) scratch_.push_back(j);
+                    }
+                }
+            std::sort(scratch_.begin(), scratch_.end());
+            for (Index j : scratch_) out.push_back({static_cast<Index>(i), j});
+            continue;
+        }
         for (std::int64_t dz = -1; dz <= 1; ++dz)
             for (std::int64_t dy = -1; dy <= 1; ++dy)
                 for (std::int64_t dx = -1; dx <= 1; ++dx) {
