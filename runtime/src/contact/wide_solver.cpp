@@ -187,9 +187,76 @@ V load(const double* p) {
     std::memcpy(&v, p, sizeof v);
     return v;
 }
-void store(double* p, V v) { std::memcpy(p, &v, sizeof v); }
+void store(double* p, const V& v) { std::memcpy(p, &v, sizeof v); }
 V splat(double x) { return V{x, x, x, x}; }
-V select(Mask m, V a, V b) { return m ? a : b; }
+V select(const Mask& m, const V& a, const V& b) { return m ? a : b; }
+
+/// clamp_disk in each lane.
+void clamp_disk_lanes(V& n1, V& n2, const V& limit) {
+    const Mask outside = n1 * n1 + n2 * n2 > limit * limit;
+    const V q = n1 * n1 + n2 * n2;
+    V mag;
+    for (int l = 0; l < 4; ++l) mag[l] = std::sqrt(q[l]);
+    const V s = select(mag > 0, limit / mag, splat(0));
+    const Mask scale = outside & (mag > limit);
+    n1 = select(scale, n1 * s, n1);
+    n2 = select(scale, n2 * s, n2);
+}
+
+/// The velocities, spins, inverse masses and world inverse inertias of a group's bodies, lane
+/// by lane (side a and side b), and the velocities and spins written back.
+struct LaneBodies {
+    V av[3], aw[3], bv[3], bw[3], aii[6], bii[6], aim, bim;
+    LaneBodies(const std::vector<Body>& bodies, const WideGroup& g) {
+        const Body* A[4] = {&bodies[g.a[0]], &bodies[g.a[1]], &bodies[g.a[2]], &bodies[g.a[3]]};
+        const Body* B[4] = {&bodies[g.b[0]], &bodies[g.b[1]], &bodies[g.b[2]], &bodies[g.b[3]]};
+        for (int d = 0; d < 3; ++d) {
+            av[d] = V{A[0]->v[d], A[1]->v[d], A[2]->v[d], A[3]->v[d]};
+            aw[d] = V{A[0]->w[d], A[1]->w[d], A[2]->w[d], A[3]->w[d]};
+            bv[d] = V{B[0]->v[d], B[1]->v[d], B[2]->v[d], B[3]->v[d]};
+            bw[d] = V{B[0]->w[d], B[1]->w[d], B[2]->w[d], B[3]->w[d]};
+        }
+        for (int e = 0; e < 6; ++e) {
+            aii[e] = V{A[0]->ii[e], A[1]->ii[e], A[2]->ii[e], A[3]->ii[e]};
+            bii[e] = V{B[0]->ii[e], B[1]->ii[e], B[2]->ii[e], B[3]->ii[e]};
+        }
+        aim = V{A[0]->im, A[1]->im, A[2]->im, A[3]->im};
+        bim = V{B[0]->im, B[1]->im, B[2]->im, B[3]->im};
+    }
+    /// The impulse p on side a and −p on side b where `go`, with the moments u (a's) and s (b's)
+    /// about their centres: v_a += p/m_a, ω_a += I_a⁻¹u, v_b −= p/m_b, ω_b −= I_b⁻¹s.
+    void impulse(const Mask& go, const V& p0, const V& p1, const V& p2, const V& u0, const V& u1, const V& u2,
+                 const V& s0, const V& s1, const V& s2) {
+        const V ia0 = aii[0] * u0 + aii[3] * u1 + aii[4] * u2;
+        const V ia1 = aii[3] * u0 + aii[1] * u1 + aii[5] * u2;
+        const V ia2 = aii[4] * u0 + aii[5] * u1 + aii[2] * u2;
+        const V ib0 = bii[0] * s0 + bii[3] * s1 + bii[4] * s2;
+        const V ib1 = bii[3] * s0 + bii[1] * s1 + bii[5] * s2;
+        const V ib2 = bii[4] * s0 + bii[5] * s1 + bii[2] * s2;
+        av[0] = select(go, av[0] + aim * p0, av[0]);
+        av[1] = select(go, av[1] + aim * p1, av[1]);
+        av[2] = select(go, av[2] + aim * p2, av[2]);
+        aw[0] = select(go, aw[0] + ia0, aw[0]);
+        aw[1] = select(go, aw[1] + ia1, aw[1]);
+        aw[2] = select(go, aw[2] + ia2, aw[2]);
+        bv[0] = select(go, bv[0] - bim * p0, bv[0]);
+        bv[1] = select(go, bv[1] - bim * p1, bv[1]);
+        bv[2] = select(go, bv[2] - bim * p2, bv[2]);
+        bw[0] = select(go, bw[0] - ib0, bw[0]);
+        bw[1] = select(go, bw[1] - ib1, bw[1]);
+        bw[2] = select(go, bw[2] - ib2, bw[2]);
+    }
+    /// `fixed`: the static body, left at rest.
+    void scatter(std::vector<Body>& bodies, const WideGroup& g, std::size_t fixed) const {
+        for (int l = 0; l < 4; ++l) {
+            Body& X = bodies[g.a[l]];
+            for (int d = 0; d < 3; ++d) X.v[d] = av[d][l], X.w[d] = aw[d][l];
+            if (g.b[l] == fixed) continue;
+            Body& Y = bodies[g.b[l]];
+            for (int d = 0; d < 3; ++d) Y.v[d] = bv[d][l], Y.w[d] = bw[d][l];
+        }
+    }
+};
 
 } // namespace
 
@@ -197,20 +264,10 @@ template <int M>
 void Solver::solve_group(WideGroup& g) {
     static_assert(WideGroup::kLanes == 4);
     // The lanes' bodies (distinct: pack_groups).
-    const Body* A[4] = {&bodies_[g.a[0]], &bodies_[g.a[1]], &bodies_[g.a[2]], &bodies_[g.a[3]]};
-    const Body* B[4] = {&bodies_[g.b[0]], &bodies_[g.b[1]], &bodies_[g.b[2]], &bodies_[g.b[3]]};
-    V av[3], aw[3], bv[3], bw[3], aii[6], bii[6];
-    for (int d = 0; d < 3; ++d) {
-        av[d] = V{A[0]->v[d], A[1]->v[d], A[2]->v[d], A[3]->v[d]};
-        aw[d] = V{A[0]->w[d], A[1]->w[d], A[2]->w[d], A[3]->w[d]};
-        bv[d] = V{B[0]->v[d], B[1]->v[d], B[2]->v[d], B[3]->v[d]};
-        bw[d] = V{B[0]->w[d], B[1]->w[d], B[2]->w[d], B[3]->w[d]};
-    }
-    for (int e = 0; e < 6; ++e) {
-        aii[e] = V{A[0]->ii[e], A[1]->ii[e], A[2]->ii[e], A[3]->ii[e]};
-        bii[e] = V{B[0]->ii[e], B[1]->ii[e], B[2]->ii[e], B[3]->ii[e]};
-    }
-    const V aim{A[0]->im, A[1]->im, A[2]->im, A[3]->im}, bim{B[0]->im, B[1]->im, B[2]->im, B[3]->im};
+    LaneBodies lanes(bodies_, g);
+    V(&av)[3] = lanes.av, (&aw)[3] = lanes.aw, (&bv)[3] = lanes.bv, (&bw)[3] = lanes.bw;
+    const V(&aii)[6] = lanes.aii, (&bii)[6] = lanes.bii;
+    const V aim = lanes.aim, bim = lanes.bim;
     V n[3], ra[3], rb[3];
     for (int d = 0; d < 3; ++d) n[d] = load(g.n[d]), ra[d] = load(g.ra[d]), rb[d] = load(g.rb[d]);
     const V zero = splat(0);
@@ -227,16 +284,7 @@ void Solver::solve_group(WideGroup& g) {
         const V jt1 = load(g.jt1), jt2 = load(g.jt2), jtw = load(g.jtw);
         V n1 = jt1 - (dv0 * t10 + dv1 * t11 + dv2 * t12) * load(g.mt1);
         V n2 = jt2 - (dv0 * t20 + dv1 * t21 + dv2 * t22) * load(g.mt2);
-        { // clamp_disk
-            const Mask outside = n1 * n1 + n2 * n2 > limit * limit;
-            const V q = n1 * n1 + n2 * n2;
-            V mag;
-            for (int l = 0; l < 4; ++l) mag[l] = std::sqrt(q[l]);
-            const V s = select(mag > 0, limit / mag, zero);
-            const Mask scale = outside & (mag > limit);
-            n1 = select(scale, n1 * s, n1);
-            n2 = select(scale, n2 * s, n2);
-        }
+        clamp_disk_lanes(n1, n2, limit);
         const V wn = (aw[0] - bw[0]) * n[0] + (aw[1] - bw[1]) * n[1] + (aw[2] - bw[2]) * n[2];
         const V tw = jtw - wn * load(g.mtw), reach = load(g.reach);
         const V lo = -limit * reach, hi = limit * reach;
@@ -251,24 +299,7 @@ void Solver::solve_group(WideGroup& g) {
         const V s0 = rb[1] * p2 - rb[2] * p1 + ltw * n[0];
         const V s1 = rb[2] * p0 - rb[0] * p2 + ltw * n[1];
         const V s2 = rb[0] * p1 - rb[1] * p0 + ltw * n[2];
-        const V ia0 = aii[0] * u0 + aii[3] * u1 + aii[4] * u2;
-        const V ia1 = aii[3] * u0 + aii[1] * u1 + aii[5] * u2;
-        const V ia2 = aii[4] * u0 + aii[5] * u1 + aii[2] * u2;
-        const V ib0 = bii[0] * s0 + bii[3] * s1 + bii[4] * s2;
-        const V ib1 = bii[3] * s0 + bii[1] * s1 + bii[5] * s2;
-        const V ib2 = bii[4] * s0 + bii[5] * s1 + bii[2] * s2;
-        av[0] = select(apply, av[0] + aim * p0, av[0]);
-        av[1] = select(apply, av[1] + aim * p1, av[1]);
-        av[2] = select(apply, av[2] + aim * p2, av[2]);
-        bv[0] = select(apply, bv[0] - bim * p0, bv[0]);
-        bv[1] = select(apply, bv[1] - bim * p1, bv[1]);
-        bv[2] = select(apply, bv[2] - bim * p2, bv[2]);
-        aw[0] = select(apply, aw[0] + ia0, aw[0]);
-        aw[1] = select(apply, aw[1] + ia1, aw[1]);
-        aw[2] = select(apply, aw[2] + ia2, aw[2]);
-        bw[0] = select(apply, bw[0] - ib0, bw[0]);
-        bw[1] = select(apply, bw[1] - ib1, bw[1]);
-        bw[2] = select(apply, bw[2] - ib2, bw[2]);
+        lanes.impulse(apply, p0, p1, p2, u0, u1, u2, s0, s1, s2);
     }
     // solve_block: b = v − K a, the full set, then the last set; the lanes neither solves
     // go through solve_block_normal once the others are stored.
@@ -344,14 +375,7 @@ void Solver::solve_group(WideGroup& g) {
     bw[0] = select(solved, bw[0] - wb0, bw[0]);
     bw[1] = select(solved, bw[1] - wb1, bw[1]);
     bw[2] = select(solved, bw[2] - wb2, bw[2]);
-    const std::size_t fixed = ids_.size();
-    for (int l = 0; l < 4; ++l) {
-        Body& X = bodies_[g.a[l]];
-        for (int d = 0; d < 3; ++d) X.v[d] = av[d][l], X.w[d] = aw[d][l];
-        if (g.b[l] == fixed) continue; // the static body stays at rest
-        Body& Y = bodies_[g.b[l]];
-        for (int d = 0; d < 3; ++d) Y.v[d] = bv[d][l], Y.w[d] = bw[d][l];
-    }
+    lanes.scatter(bodies_, g, ids_.size());
     for (int l = 0; l < 4; ++l) {
         if (solved[l] != 0) continue;
         Block& k = blocks_[g.block[l]];
@@ -364,20 +388,8 @@ void Solver::solve_group(WideGroup& g) {
 
 void Solver::solve_rows(WideGroup& g) {
     // solve_row_friction then solve_row_normal of four point rows (apply_point on both sides).
-    const Body* A[4] = {&bodies_[g.a[0]], &bodies_[g.a[1]], &bodies_[g.a[2]], &bodies_[g.a[3]]};
-    const Body* B[4] = {&bodies_[g.b[0]], &bodies_[g.b[1]], &bodies_[g.b[2]], &bodies_[g.b[3]]};
-    V av[3], aw[3], bv[3], bw[3], aii[6], bii[6];
-    for (int d = 0; d < 3; ++d) {
-        av[d] = V{A[0]->v[d], A[1]->v[d], A[2]->v[d], A[3]->v[d]};
-        aw[d] = V{A[0]->w[d], A[1]->w[d], A[2]->w[d], A[3]->w[d]};
-        bv[d] = V{B[0]->v[d], B[1]->v[d], B[2]->v[d], B[3]->v[d]};
-        bw[d] = V{B[0]->w[d], B[1]->w[d], B[2]->w[d], B[3]->w[d]};
-    }
-    for (int e = 0; e < 6; ++e) {
-        aii[e] = V{A[0]->ii[e], A[1]->ii[e], A[2]->ii[e], A[3]->ii[e]};
-        bii[e] = V{B[0]->ii[e], B[1]->ii[e], B[2]->ii[e], B[3]->ii[e]};
-    }
-    const V aim{A[0]->im, A[1]->im, A[2]->im, A[3]->im}, bim{B[0]->im, B[1]->im, B[2]->im, B[3]->im};
+    LaneBodies lanes(bodies_, g);
+    V(&av)[3] = lanes.av, (&aw)[3] = lanes.aw, (&bv)[3] = lanes.bv, (&bw)[3] = lanes.bw;
     V xa[3], xb[3], n[3], t1[3], t2[3];
     for (int d = 0; d < 3; ++d)
         xa[d] = load(g.ra[d]), xb[d] = load(g.rb[d]), n[d] = load(g.n[d]), t1[d] = load(g.t1[d]), t2[d] = load(g.t2[d]);
@@ -391,27 +403,10 @@ void Solver::solve_rows(WideGroup& g) {
         dv[2] = av[2] + wa2 - bv[2] - wb2;
     };
     // apply_point(p) where `go`.
-    auto apply = [&](Mask go, V p0, V p1, V p2) {
+    auto apply = [&](const Mask& go, const V& p0, const V& p1, const V& p2) {
         const V u0 = xa[1] * p2 - xa[2] * p1, u1 = xa[2] * p0 - xa[0] * p2, u2 = xa[0] * p1 - xa[1] * p0;
         const V s0 = xb[1] * p2 - xb[2] * p1, s1 = xb[2] * p0 - xb[0] * p2, s2 = xb[0] * p1 - xb[1] * p0;
-        const V ia0 = aii[0] * u0 + aii[3] * u1 + aii[4] * u2;
-        const V ia1 = aii[3] * u0 + aii[1] * u1 + aii[5] * u2;
-        const V ia2 = aii[4] * u0 + aii[5] * u1 + aii[2] * u2;
-        const V ib0 = bii[0] * s0 + bii[3] * s1 + bii[4] * s2;
-        const V ib1 = bii[3] * s0 + bii[1] * s1 + bii[5] * s2;
-        const V ib2 = bii[4] * s0 + bii[5] * s1 + bii[2] * s2;
-        av[0] = select(go, av[0] + aim * p0, av[0]);
-        av[1] = select(go, av[1] + aim * p1, av[1]);
-        av[2] = select(go, av[2] + aim * p2, av[2]);
-        aw[0] = select(go, aw[0] + ia0, aw[0]);
-        aw[1] = select(go, aw[1] + ia1, aw[1]);
-        aw[2] = select(go, aw[2] + ia2, aw[2]);
-        bv[0] = select(go, bv[0] - bim * p0, bv[0]);
-        bv[1] = select(go, bv[1] - bim * p1, bv[1]);
-        bv[2] = select(go, bv[2] - bim * p2, bv[2]);
-        bw[0] = select(go, bw[0] - ib0, bw[0]);
-        bw[1] = select(go, bw[1] - ib1, bw[1]);
-        bw[2] = select(go, bw[2] - ib2, bw[2]);
+        lanes.impulse(go, p0, p1, p2, u0, u1, u2, s0, s1, s2);
     };
     V dv[3];
     const V jn = load(g.jn[0]);
@@ -422,16 +417,7 @@ void Solver::solve_rows(WideGroup& g) {
         const V jt1 = load(g.jt1), jt2 = load(g.jt2);
         V n1 = jt1 - vt1 * load(g.mt1), n2 = jt2 - vt2 * load(g.mt2);
         const V limit = load(g.mu) * jn;
-        { // clamp_disk
-            const Mask outside = n1 * n1 + n2 * n2 > limit * limit;
-            const V q = n1 * n1 + n2 * n2;
-            V mag;
-            for (int l = 0; l < 4; ++l) mag[l] = std::sqrt(q[l]);
-            const V s = select(mag > 0, limit / mag, zero);
-            const Mask scale = outside & (mag > limit);
-            n1 = select(scale, n1 * s, n1);
-            n2 = select(scale, n2 * s, n2);
-        }
+        clamp_disk_lanes(n1, n2, limit);
         const V l1 = n1 - jt1, l2 = n2 - jt2;
         store(g.jt1, n1), store(g.jt2, n2);
         apply((l1 != 0) | (l2 != 0), l1 * t1[0] + l2 * t2[0], l1 * t1[1] + l2 * t2[1], l1 * t1[2] + l2 * t2[2]);
@@ -445,14 +431,7 @@ void Solver::solve_rows(WideGroup& g) {
         store(g.jn[0], next);
         apply(l != 0, l * n[0], l * n[1], l * n[2]);
     }
-    const std::size_t fixed = ids_.size();
-    for (int l = 0; l < 4; ++l) {
-        Body& X = bodies_[g.a[l]];
-        for (int d = 0; d < 3; ++d) X.v[d] = av[d][l], X.w[d] = aw[d][l];
-        if (g.b[l] == fixed) continue; // the static body stays at rest
-        Body& Y = bodies_[g.b[l]];
-        for (int d = 0; d < 3; ++d) Y.v[d] = bv[d][l], Y.w[d] = bw[d][l];
-    }
+    lanes.scatter(bodies_, g, ids_.size());
 }
 
 template void Solver::solve_group<2>(WideGroup&);
