@@ -1,6 +1,6 @@
 // The velocity passes four manifolds at a time (solver.hpp, WideGroup): four blocks of the
-// same point count near each other in the schedule, on eight different bodies, solved in SIMD
-// lanes — the exact block LCP of solve_block, as Box2D v3 solves its contacts in wide lanes.
+// same point count (or four one-point rows, solve_rows) near each other in the schedule, on
+// eight different bodies, solved in SIMD lanes — the exact block LCP of solve_block, as Box2D v3 solves its contacts in wide lanes.
 // Box2D colours its constraint graph for that, which reorders the whole pass; a pile then
 // settles worse than in the schedule's order (bodies one after another), so here a block
 // joins a group only if it shares no body with the group or with any item it is moved ahead
