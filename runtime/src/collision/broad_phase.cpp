@@ -219,32 +219,24 @@ void UniformGrid::find_pairs(std::span<const AABB> boxes, std::vector<CandidateP
                         if (j > i && intersects(boxes[i], boxes[j])) scratch_.push_back(j);
                     }
                 }
-            std::sort(scratch_.begin(), scratch_.end());
-            for (Index j : scratch_) out.push_back({static_cast<Index>(i), j});
-            continue;
-        }
-        for (std::int64_t dz = -1; dz <= 1; ++dz)
-            for (std::int64_t dy = -1; dy <= 1; ++dy)
-                for (std::int64_t dx = -1; dx <= 1; ++dx) {
-                    const std::int64_t x = cx + dx, y = cy + dy, z = cz + dz;
-                    std::size_t s;
-                    if (dense) {
-                        if (x < 0 || y < 0 || z < 0 || x >= ext[0] || y >= ext[1] || z >= ext[2]) continue;
-                        s = dense_slot(x, y, z);
-                    } else {
+        } else {
+            for (std::int64_t dz = -1; dz <= 1; ++dz)
+                for (std::int64_t dy = -1; dy <= 1; ++dy)
+                    for (std::int64_t dx = -1; dx <= 1; ++dx) {
+                        const std::int64_t x = cx + dx, y = cy + dy, z = cz + dz;
                         if (x < 0 || y < 0 || z < 0 || x > kMaxCell || y > kMaxCell || z > kMaxCell) continue;
-                        s = find(pack(x, y, z));
+                        const std::size_t s = find(pack(x, y, z));
                         if (table_keys_[s] == kEmpty) continue;
+                        // A cell lists its boxes in index order: from the last down to the first
+                        // beyond i (each pair once, as (i, j > i)).
+                        const std::uint32_t b = table_begin_[s], e = b + table_count_[s];
+                        for (std::uint32_t k = e; k-- > b;) {
+                            const Index j = sorted_[k];
+                            if (j <= i) break;
+                            if (intersects(boxes[i], boxes[j])) scratch_.push_back(j);
+                        }
                     }
-                    // A cell lists its boxes in index order: from the last down to the first
-                    // beyond i (each pair once, as (i, j > i)).
-                    const std::uint32_t b = table_begin_[s], e = b + table_count_[s];
-                    for (std::uint32_t k = e; k-- > b;) {
-                        const Index j = sorted_[k];
-                        if (j <= i) break;
-                        if (intersects(boxes[i], boxes[j])) scratch_.push_back(j);
-                    }
-                }
+        }
         std::sort(scratch_.begin(), scratch_.end());
         for (Index j : scratch_) out.push_back({static_cast<Index>(i), j});
     }

@@ -644,13 +644,13 @@ void Solver::solve_contacts() {
             if (item >= 0) {
                 Row& c = rows_[static_cast<std::size_t>(item)];
                 solve_row_friction(c, from);
-                solve_row_normal(c, jacobi ? from : bodies_);
+                solve_row_normal(c, from);
                 continue;
             }
             // A manifold: friction at its centre, then its points' normal impulses together.
             Block& k = blocks_[static_cast<std::size_t>(-1 - item)];
             solve_block_friction(k, from);
-            solve_block_normal(k, jacobi ? from : bodies_);
+            solve_block_normal(k, from);
         }
     }
     store_groups();

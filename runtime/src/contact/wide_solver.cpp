@@ -223,6 +223,15 @@ struct LaneBodies {
         aim = V{A[0]->im, A[1]->im, A[2]->im, A[3]->im};
         bim = V{B[0]->im, B[1]->im, B[2]->im, B[3]->im};
     }
+    /// The velocity of a's point at the lever arm ra relative to b's at rb (point_velocity):
+    /// (v_a + ω_a × r_a) − (v_b + ω_b × r_b).
+    void velocity_at(const V* ra, const V* rb, V* dv) const {
+        const V wa0 = aw[1] * ra[2] - aw[2] * ra[1], wa1 = aw[2] * ra[0] - aw[0] * ra[2], wa2 = aw[0] * ra[1] - aw[1] * ra[0];
+        const V wb0 = bw[1] * rb[2] - bw[2] * rb[1], wb1 = bw[2] * rb[0] - bw[0] * rb[2], wb2 = bw[0] * rb[1] - bw[1] * rb[0];
+        dv[0] = av[0] + wa0 - bv[0] - wb0;
+        dv[1] = av[1] + wa1 - bv[1] - wb1;
+        dv[2] = av[2] + wa2 - bv[2] - wb2;
+    }
     /// The impulse p on side a and −p on side b where `go`, with the moments u (a's) and s (b's)
     /// about their centres: v_a += p/m_a, ω_a += I_a⁻¹u, v_b −= p/m_b, ω_b −= I_b⁻¹s.
     void impulse(const Mask& go, const V& p0, const V& p1, const V& p2, const V& u0, const V& u1, const V& u2,
@@ -273,9 +282,9 @@ void Solver::solve_group(WideGroup& g) {
     const V zero = splat(0);
     // solve_block_friction and apply_central.
     {
-        const V wa0 = aw[1] * ra[2] - aw[2] * ra[1], wa1 = aw[2] * ra[0] - aw[0] * ra[2], wa2 = aw[0] * ra[1] - aw[1] * ra[0];
-        const V wb0 = bw[1] * rb[2] - bw[2] * rb[1], wb1 = bw[2] * rb[0] - bw[0] * rb[2], wb2 = bw[0] * rb[1] - bw[1] * rb[0];
-        const V dv0 = av[0] + wa0 - bv[0] - wb0, dv1 = av[1] + wa1 - bv[1] - wb1, dv2 = av[2] + wa2 - bv[2] - wb2;
+        V dv[3];
+        lanes.velocity_at(ra, rb, dv);
+        const V dv0 = dv[0], dv1 = dv[1], dv2 = dv[2];
         V load_sum = zero;
         for (int j = 0; j < M; ++j) load_sum += load(g.jn[j]);
         const V limit = load(g.mu) * load_sum;
@@ -389,19 +398,11 @@ void Solver::solve_group(WideGroup& g) {
 void Solver::solve_rows(WideGroup& g) {
     // solve_row_friction then solve_row_normal of four point rows (apply_point on both sides).
     LaneBodies lanes(bodies_, g);
-    V(&av)[3] = lanes.av, (&aw)[3] = lanes.aw, (&bv)[3] = lanes.bv, (&bw)[3] = lanes.bw;
     V xa[3], xb[3], n[3], t1[3], t2[3];
     for (int d = 0; d < 3; ++d)
         xa[d] = load(g.ra[d]), xb[d] = load(g.rb[d]), n[d] = load(g.n[d]), t1[d] = load(g.t1[d]), t2[d] = load(g.t2[d]);
     const V zero = splat(0);
     // point_velocity: (v_a + ω_a × r_a) − (v_b + ω_b × r_b).
-    auto velocity = [&](V* dv) {
-        const V wa0 = aw[1] * xa[2] - aw[2] * xa[1], wa1 = aw[2] * xa[0] - aw[0] * xa[2], wa2 = aw[0] * xa[1] - aw[1] * xa[0];
-        const V wb0 = bw[1] * xb[2] - bw[2] * xb[1], wb1 = bw[2] * xb[0] - bw[0] * xb[2], wb2 = bw[0] * xb[1] - bw[1] * xb[0];
-        dv[0] = av[0] + wa0 - bv[0] - wb0;
-        dv[1] = av[1] + wa1 - bv[1] - wb1;
-        dv[2] = av[2] + wa2 - bv[2] - wb2;
-    };
     // apply_point(p) where `go`.
     auto apply = [&](const Mask& go, const V& p0, const V& p1, const V& p2) {
         const V u0 = xa[1] * p2 - xa[2] * p1, u1 = xa[2] * p0 - xa[0] * p2, u2 = xa[0] * p1 - xa[1] * p0;
@@ -411,7 +412,7 @@ void Solver::solve_rows(WideGroup& g) {
     V dv[3];
     const V jn = load(g.jn[0]);
     {
-        velocity(dv);
+        lanes.velocity_at(xa, xb, dv);
         const V vt1 = dv[0] * t1[0] + dv[1] * t1[1] + dv[2] * t1[2];
         const V vt2 = dv[0] * t2[0] + dv[1] * t2[1] + dv[2] * t2[2];
         const V jt1 = load(g.jt1), jt2 = load(g.jt2);
@@ -423,7 +424,7 @@ void Solver::solve_rows(WideGroup& g) {
         apply((l1 != 0) | (l2 != 0), l1 * t1[0] + l2 * t2[0], l1 * t1[1] + l2 * t2[1], l1 * t1[2] + l2 * t2[2]);
     }
     {
-        velocity(dv);
+        lanes.velocity_at(xa, xb, dv);
         const V vn = dv[0] * n[0] + dv[1] * n[1] + dv[2] * n[2];
         const V want = jn - (vn - load(g.bias[0])) * load(g.mn);
         const V next = select(want < 0, zero, want); // std::max(want, 0.0)
