@@ -298,7 +298,7 @@ Result run_bullet(const Setup& s) {
 }
 
 void print(const char* scene, const char* engine, const Result& r, bool standing) {
-    std::printf("%-12s %-7s %8.3f ms/step   deepest overlap %7.3f mm   max speed %7.4f m/s   at rest %5.1f%%", scene, engine,
+    std::printf("%-12s %-7s %8.3f ms/step   deepest overlap %8.4f mm   max speed %7.4f m/s   at rest %5.1f%%", scene, engine,
                 r.ms_per_step, r.overlap * 1e3, r.max_speed, 100 * r.at_rest);
     if (standing) std::printf("   stood %5.1f s", r.stood);
     std::printf("\n");

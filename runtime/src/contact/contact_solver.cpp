@@ -706,8 +706,13 @@ void Solver::step(double dt, World& w) {
     if (!(dt > 0) || !std::isfinite(dt)) throw Error("contact: the step dt must be positive and finite");
     gather(w);
     detect(w, dt);
-    correct_positions();
-    setup_rows(dt);
+    if (linear_positions()) {
+        setup_rows(dt);
+        push_positions(dt);
+    } else {
+        correct_positions();
+        setup_rows(dt);
+    }
     find_slots(w); // cached contacts are resting: no restitution for them
     // Collisions see the velocities before any contact impulse: the warm start is a first
     // guess at the resting impulses that the contact passes may take back, and an impact

@@ -136,6 +136,7 @@ struct Block {
     std::size_t first = 0;      // its first row
     double n[3];                // its rows' normal
     double jn[4], bias[4];      // solve_contacts: the points' normal impulses and minimum velocities
+                                // (push_positions: bias = −separation at detection − slop)
     // Point j's u_j = r_a,j × n; r_b,j × n = u_j + off with off = (p_a − p_b) × n (the lever
     // arms differ by p_a − p_b; 0 against a plane, whose static body never turns). A point's
     // normal velocity is n·(v_a − v_b) + (ω_a − ω_b)·u_j − ω_b·off, and the impulses λ_j n
@@ -364,6 +365,7 @@ public:
             blocks_.reserve(contacts);
             schedule_.reserve(5 * contacts);
             pos_blocks_.reserve(contacts);
+            saved_.reserve(6 * (n + 1));
             stamp_.reserve(n + 1);
             taken_.reserve(5 * contacts);
             item_bodies_.reserve(5 * contacts);
@@ -473,6 +475,22 @@ private:
         cross(rb, u, g + 3);
         return sa * (A.im + quad(A.ii, ua)) + sb * model_box_k(B, g, g);
     }
+    /// Whether the position passes are linear (linear_positions.cpp): Gauss–Seidel in a world
+    /// of rigid bodies with shapes and no models.
+    bool linear_positions() const;
+    /// The linear position passes (after setup_rows; linear_positions.cpp), then the rows'
+    /// separations and speculative biases at the moved positions.
+    void push_positions(double dt);
+    /// One linear position pass of a row or a block (bias: −separation at detection − slop;
+    /// the bodies' v, w: their displacements and turns so far); false if not deeper than the
+    /// slop (or, a block, no set of points solves it).
+    bool push_row(Row& c);
+    bool push_block(Block& k);
+    /// push_block and push_row of a WideGroup's four blocks or rows at once (wide_solver.cpp);
+    /// true if any lane moved.
+    template <int M>
+    bool push_group(WideGroup& g);
+    bool push_rows(WideGroup& g);
     /// Gauss–Seidel position correction of the manifold from rows_[first] (k: its K, filled
     /// when !k.set_known); false if no point is deeper than the slop.
     bool correct_block(std::size_t first, Block& k);
@@ -521,6 +539,7 @@ private:
     // block (−1 − its index) — so that a pass reads a block without its rows.
     std::vector<std::int64_t> schedule_;
     std::vector<Block> pos_blocks_; // correct_positions: K of each manifold, once a step
+    std::vector<double> saved_;     // push_positions: each body's v and ω while the passes use them
     // pack_groups: a window stamp per body, whether each schedule item is in a group already,
     // the reordered schedule, the groups and each group's first position in schedule_.
     struct ItemBodies {

@@ -435,6 +435,120 @@ void Solver::solve_rows(WideGroup& g) {
     lanes.scatter(bodies_, g, ids_.size());
 }
 
+namespace {
+bool any_lane(const Mask& m) { return (m[0] | m[1] | m[2] | m[3]) != 0; }
+} // namespace
+
+template <int M>
+bool Solver::push_group(WideGroup& g) {
+    // push_block lane by lane: the bodies' v and ω are their displacements and turns so far,
+    // g.bias the points' −(separation at detection) − slop.
+    LaneBodies lanes(bodies_, g);
+    V(&av)[3] = lanes.av, (&aw)[3] = lanes.aw, (&bv)[3] = lanes.bv, (&bw)[3] = lanes.bw;
+    const V(&aii)[6] = lanes.aii, (&bii)[6] = lanes.bii;
+    const V aim = lanes.aim, bim = lanes.bim;
+    V n[3], off[3];
+    for (int d = 0; d < 3; ++d) n[d] = load(g.n[d]), off[d] = load(g.off[d]);
+    const V zero = splat(0);
+    const V vn = (av[0] - bv[0]) * n[0] + (av[1] - bv[1]) * n[1] + (av[2] - bv[2]) * n[2] -
+                 (bw[0] * off[0] + bw[1] * off[1] + bw[2] * off[2]);
+    const V dw0 = aw[0] - bw[0], dw1 = aw[1] - bw[1], dw2 = aw[2] - bw[2];
+    V b[M], r[M], x[M], y[M], ua[M][3];
+    Mask deep = zero != zero;
+    for (int i = 0; i < M; ++i) {
+        for (int d = 0; d < 3; ++d) ua[i][d] = load(g.ua[i][d]);
+        b[i] = vn + (dw0 * ua[i][0] + dw1 * ua[i][1] + dw2 * ua[i][2]);
+        r[i] = load(g.bias[i]) - b[i];
+        deep |= r[i] > 0;
+    }
+    if (!any_lane(deep)) return false;
+    Mask full = deep;
+    for (int p = 0; p < M; ++p) {
+        x[p] = zero;
+        for (int q = 0; q < M; ++q) x[p] += load(g.inv[4 * p + q]) * r[q];
+        full &= x[p] >= 0;
+    }
+    Mask last = deep & (load(g.known) != 0);
+    Mask in[M];
+    for (int p = 0; p < M; ++p) {
+        in[p] = load(g.in[p]) != 0;
+        y[p] = zero;
+        for (int q = 0; q < M; ++q) y[p] += load(g.last[4 * p + q]) * r[q];
+        last &= ~in[p] | (y[p] >= 0);
+        y[p] = select(in[p], y[p], zero);
+    }
+    for (int i = 0; i < M; ++i) {
+        V w = b[i];
+        for (int j = 0; j < M; ++j) w += load(g.k[4 * i + j]) * y[j];
+        const V bias = load(g.bias[i]);
+        const V size = select(bias < 0, -bias, bias);
+        last &= in[i] | ~(w < bias - 1e-12 * (1 + size));
+    }
+    const Mask solved = full | last;
+    const V beta = splat(options_.baumgarte);
+    V total = zero, u0 = zero, u1 = zero, u2 = zero;
+    for (int j = 0; j < M; ++j) {
+        const V lj = beta * select(full, x[j], y[j]);
+        total += lj;
+        u0 += lj * ua[j][0];
+        u1 += lj * ua[j][1];
+        u2 += lj * ua[j][2];
+    }
+    const V wa0 = aii[0] * u0 + aii[3] * u1 + aii[4] * u2;
+    const V wa1 = aii[3] * u0 + aii[1] * u1 + aii[5] * u2;
+    const V wa2 = aii[4] * u0 + aii[5] * u1 + aii[2] * u2;
+    u0 += total * off[0];
+    u1 += total * off[1];
+    u2 += total * off[2];
+    const V wb0 = bii[0] * u0 + bii[3] * u1 + bii[4] * u2;
+    const V wb1 = bii[3] * u0 + bii[1] * u1 + bii[5] * u2;
+    const V wb2 = bii[4] * u0 + bii[5] * u1 + bii[2] * u2;
+    av[0] = select(solved, av[0] + aim * total * n[0], av[0]);
+    av[1] = select(solved, av[1] + aim * total * n[1], av[1]);
+    av[2] = select(solved, av[2] + aim * total * n[2], av[2]);
+    bv[0] = select(solved, bv[0] - bim * total * n[0], bv[0]);
+    bv[1] = select(solved, bv[1] - bim * total * n[1], bv[1]);
+    bv[2] = select(solved, bv[2] - bim * total * n[2], bv[2]);
+    aw[0] = select(solved, aw[0] + wa0, aw[0]);
+    aw[1] = select(solved, aw[1] + wa1, aw[1]);
+    aw[2] = select(solved, aw[2] + wa2, aw[2]);
+    bw[0] = select(solved, bw[0] - wb0, bw[0]);
+    bw[1] = select(solved, bw[1] - wb1, bw[1]);
+    bw[2] = select(solved, bw[2] - wb2, bw[2]);
+    lanes.scatter(bodies_, g, ids_.size());
+    bool moved = any_lane(solved);
+    for (int l = 0; l < 4; ++l) {
+        if (deep[l] == 0 || solved[l] != 0) continue;
+        Block& k = blocks_[g.block[l]];
+        moved = push_block(k) || moved;
+        pad_last(k, g, l);
+    }
+    return moved;
+}
+
+bool Solver::push_rows(WideGroup& g) {
+    // push_row of four point rows at once.
+    LaneBodies lanes(bodies_, g);
+    V xa[3], xb[3], n[3];
+    for (int d = 0; d < 3; ++d) xa[d] = load(g.ra[d]), xb[d] = load(g.rb[d]), n[d] = load(g.n[d]);
+    V dv[3];
+    lanes.velocity_at(xa, xb, dv);
+    const V vn = dv[0] * n[0] + dv[1] * n[1] + dv[2] * n[2];
+    const V depth = load(g.bias[0]) - vn;
+    const Mask go = depth > 0;
+    if (!any_lane(go)) return false;
+    const V l = splat(options_.baumgarte) * depth * load(g.mn);
+    const V p0 = l * n[0], p1 = l * n[1], p2 = l * n[2];
+    const V u0 = xa[1] * p2 - xa[2] * p1, u1 = xa[2] * p0 - xa[0] * p2, u2 = xa[0] * p1 - xa[1] * p0;
+    const V s0 = xb[1] * p2 - xb[2] * p1, s1 = xb[2] * p0 - xb[0] * p2, s2 = xb[0] * p1 - xb[1] * p0;
+    lanes.impulse(go, p0, p1, p2, u0, u1, u2, s0, s1, s2);
+    lanes.scatter(bodies_, g, ids_.size());
+    return true;
+}
+
+template bool Solver::push_group<2>(WideGroup&);
+template bool Solver::push_group<3>(WideGroup&);
+template bool Solver::push_group<4>(WideGroup&);
 template void Solver::solve_group<2>(WideGroup&);
 template void Solver::solve_group<3>(WideGroup&);
 template void Solver::solve_group<4>(WideGroup&);

@@ -71,6 +71,11 @@ enum class ContactScheme {
 
 struct ContactOptions {
     ContactScheme scheme = ContactScheme::gauss_seidel;
+    /// Position passes a step, before the velocity passes: each removes β of every contact's
+    /// depth beyond the slop that is left. Gauss–Seidel among rigid bodies with shapes (boxes,
+    /// capsules; no models): linear in each body's displacement and turn on the step's contacts
+    /// and effective masses (solved like the velocity passes' normal impulses, four at once
+    /// where `wide`); otherwise on the geometry of the current positions, pass by pass.
     int position_iterations = 4;
     int restitution_iterations = 16;
     int velocity_iterations = 10;
