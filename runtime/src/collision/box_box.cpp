@@ -52,8 +52,11 @@ struct Axis {
 } // namespace
 
 void box_box(const OBB& a, const OBB& b, double margin, Manifold& out) {
+    box_box(a, a.rotation.to_matrix(), b, b.rotation.to_matrix(), margin, out);
+}
+
+void box_box(const OBB& a, const Eigen::Matrix3d& ra, const OBB& b, const Eigen::Matrix3d& rb, double margin, Manifold& out) {
     out.count = 0;
-    const Eigen::Matrix3d ra = a.rotation.to_matrix(), rb = b.rotation.to_matrix();
     const Eigen::Vector3d& ha = a.half;
     const Eigen::Vector3d& hb = b.half;
     const Eigen::Vector3d d = b.center - a.center; // from a to b
@@ -151,8 +154,10 @@ void box_box(const OBB& a, const OBB& b, double margin, Manifold& out) {
     const int iu = (inc + 1) % 3, iv = (inc + 2) % 3;
     const Eigen::Vector3d fc = I.center + (inc_plus ? I.half(inc) : -I.half(inc)) * ri.col(inc);
     const Eigen::Vector3d eu = I.half(iu) * ri.col(iu), ev = I.half(iv) * ri.col(iv);
-    // Two buffers, clipped from one into the other (pointers swapped, not the 8 vertices).
-    std::array<ClipVertex, 8> buffer_a{}, buffer_b{};
+    // Two buffers, clipped from one into the other (pointers swapped, not the 8 vertices);
+    // left uninitialised, as `found` and `lines` below: each entry is written before it is
+    // read, and zeroing them cost more than the clipping.
+    std::array<ClipVertex, 8> buffer_a, buffer_b;
     ClipVertex* poly = buffer_a.data();
     ClipVertex* next = buffer_b.data();
     const Eigen::Vector3d corners[4] = {fc + eu + ev, fc - eu + ev, fc - eu - ev, fc + eu - ev};
@@ -175,8 +180,8 @@ void box_box(const OBB& a, const OBB& b, double margin, Manifold& out) {
     // one or a reference corner: equal boxes stacked edge to edge flip between the three at
     // every jiggle, and their warm start must not. Two points in one pair of quadrants (rare:
     // a turned face) add the lines that meet there.
-    std::array<ManifoldPoint, 8> found{};
-    std::array<std::uint32_t, 8> lines{};
+    std::array<ManifoldPoint, 8> found;
+    std::array<std::uint32_t, 8> lines;
     int m = 0;
     for (int k = 0; k < n; ++k) {
         const Eigen::Vector3d& x = poly[k].p;

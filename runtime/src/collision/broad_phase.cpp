@@ -205,18 +205,26 @@ void UniformGrid::find_pairs(std::span<const AABB> boxes, std::vector<CandidateP
         unpack(keys_[i], cx, cy, cz);
         scratch_.clear();
         if (dense) {
-            // A row of three cells along x is one run of sorted_ (the table orders its cells
-            // x fastest): nine runs, each box beyond i in them tested.
+            // A row of three cells along x is three neighbouring slots (the table orders its
+            // cells x fastest); each cell's boxes from the last down to the first beyond i, and
+            // intersects' six comparisons without branches (most neighbours miss on one).
+            const AABB& a = boxes[i];
             const std::int64_t x0 = std::max<std::int64_t>(cx - 1, 0), x1 = std::min<std::int64_t>(cx + 1, ext[0] - 1);
             for (std::int64_t dz = -1; dz <= 1; ++dz)
                 for (std::int64_t dy = -1; dy <= 1; ++dy) {
                     const std::int64_t y = cy + dy, z = cz + dz;
                     if (y < 0 || z < 0 || y >= ext[1] || z >= ext[2]) continue;
                     const std::size_t first = dense_slot(x0, y, z), last = dense_slot(x1, y, z);
-                    const std::uint32_t b = table_begin_[first], e = table_begin_[last] + table_count_[last];
-                    for (std::uint32_t k = b; k < e; ++k) {
-                        const Index j = sorted_[k];
-                        if (j > i && intersects(boxes[i], boxes[j])) scratch_.push_back(j);
+                    for (std::size_t s = first; s <= last; ++s) {
+                        const std::uint32_t b = table_begin_[s];
+                        for (std::uint32_t k = b + table_count_[s]; k-- > b;) {
+                            const Index j = sorted_[k];
+                            if (j <= i) break;
+                            const AABB& c = boxes[j];
+                            const bool hit = (a.hi.x() >= c.lo.x()) & (c.hi.x() >= a.lo.x()) & (a.hi.y() >= c.lo.y()) &
+                                             (c.hi.y() >= a.lo.y()) & (a.hi.z() >= c.lo.z()) & (c.hi.z() >= a.lo.z());
+                            if (hit) scratch_.push_back(j);
+                        }
                     }
                 }
         } else {

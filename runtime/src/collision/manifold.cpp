@@ -57,16 +57,19 @@ void keep_four(const ManifoldPoint* found, int m, Manifold& out) {
 } // namespace manifold_detail
 
 void box_plane(const OBB& a, const Plane& plane, double margin, Manifold& out) {
+    box_plane(a, a.rotation.to_matrix(), plane, margin, out);
+}
+
+void box_plane(const OBB& a, const Eigen::Matrix3d& r, const Plane& plane, double margin, Manifold& out) {
     out.count = 0;
     out.normal = plane.normal;
-    const Eigen::Matrix3d r = a.rotation.to_matrix();
     // The box's lowest point along the normal is at n·c − Σ h_i |n·r_i| from the plane: when
     // that clears the margin by more than the corners' own rounding could (1e-12 relative:
     // thousands of ulps), no corner is within it — most boxes of a pile, against most walls.
     const double centre = plane.normal.dot(a.center) - plane.offset;
     const double reach = a.half.dot((r.transpose() * plane.normal).cwiseAbs());
     if (centre - reach > margin + 1e-12 * (std::abs(centre) + reach + std::abs(plane.offset))) return;
-    std::array<ManifoldPoint, 8> found{};
+    std::array<ManifoldPoint, 8> found; // each entry written before it is read
     int m = 0;
     for (std::uint32_t v = 0; v < 8; ++v) {
         const Eigen::Vector3d local((v & 1u) ? a.half.x() : -a.half.x(), (v & 2u) ? a.half.y() : -a.half.y(),

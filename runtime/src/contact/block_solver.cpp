@@ -75,15 +75,22 @@ void Solver::setup_blocks() {
 
 namespace {
 
-/// The sets of pressing points of a manifold of m points (bit i: point i), largest first.
+/// The sets of pressing points of a manifold of m points (bit i: point i), largest first, and
+/// where each set's inverse lies in Block::subset_inv (the full set's is Block::inv).
 struct SetOrder {
     unsigned sets[16];
+    int offset[16];
     int count = 0;
     explicit SetOrder(unsigned m) {
         const unsigned all = (1u << m) - 1;
+        int at = 0;
         for (int size = static_cast<int>(m); size >= 0; --size)
             for (unsigned set = all + 1; set-- > 0;)
-                if (std::popcount(set) == size) sets[count++] = set;
+                if (std::popcount(set) == size) {
+                    offset[count] = at;
+                    sets[count++] = set;
+                    if (size < static_cast<int>(m)) at += size * size;
+                }
     }
 };
 const SetOrder kSetOrders[5] = {SetOrder(0), SetOrder(1), SetOrder(2), SetOrder(3), SetOrder(4)};
@@ -142,17 +149,17 @@ bool Solver::solve_block(Block& k, const std::vector<Body>& from) {
 namespace {
 
 /// The impulses x when exactly the points of `set` press (b, bias: solve_block), with `inv`
-/// the inverse of K_SS (row-major, stride 4); false when one of them would pull or a point
-/// left out would sink. M: the block's point count (its loops unrolled).
+/// the inverse of K_SS (row-major, rows `stride` apart); false when one of them would pull or
+/// a point left out would sink. M: the block's point count (its loops unrolled).
 template <int M>
-bool try_set(const Block& k, unsigned set, const double* inv, const double* b, const double* bias, double* x) {
+bool try_set(const Block& k, unsigned set, const double* inv, int stride, const double* b, const double* bias, double* x) {
     int idx[4];
     int n = 0;
     for (int i = 0; i < M; ++i)
         if (set & (1u << i)) idx[n++] = i;
     for (int p = 0; p < n; ++p) {
         double s = 0;
-        for (int q = 0; q < n; ++q) s += inv[4 * p + q] * (bias[idx[q]] - b[idx[q]]);
+        for (int q = 0; q < n; ++q) s += inv[stride * p + q] * (bias[idx[q]] - b[idx[q]]);
         if (!(s >= 0)) return false;
         x[idx[p]] = s;
     }
@@ -188,25 +195,32 @@ bool solve_lcp_of(Block& k, const double* b, const double* bias, double* x) {
     if (try_full<M>(k.inv, b, bias, x)) return true;
     if (k.last_known) {
         clear();
-        if (try_set<M>(k, k.last_set, k.last_inv, b, bias, x)) return true;
+        if (try_set<M>(k, k.last_set, k.last_inv, 4, b, bias, x)) return true;
     }
     for (int i = 1; i < order.count; ++i) {
         const unsigned set = order.sets[i];
         if (k.last_known && set == k.last_set) continue;
-        double local[16];
         int idx[4], n = 0;
         for (int j = 0; j < M; ++j)
             if (set & (1u << j)) idx[n++] = j;
-        for (int p = 0; p < n; ++p) { // (K_SS + 1e-9 diag)⁻¹
-            for (int q = 0; q < n; ++q) local[4 * p + q] = k.k[4 * idx[p] + idx[q]];
-            local[4 * p + p] *= 1 + 1e-9;
+        double* local = k.subset_inv + order.offset[i];
+        if (n > 0 && !(k.subsets_known & (1u << i))) { // (K_SS + 1e-9 diag)⁻¹, packed n × n
+            double a[16];
+            for (int p = 0; p < n; ++p) {
+                for (int q = 0; q < n; ++q) a[4 * p + q] = k.k[4 * idx[p] + idx[q]];
+                a[4 * p + p] *= 1 + 1e-9;
+            }
+            invert_spd(a, n);
+            for (int p = 0; p < n; ++p)
+                for (int q = 0; q < n; ++q) local[n * p + q] = a[4 * p + q];
+            k.subsets_known = static_cast<std::uint16_t>(k.subsets_known | (1u << i));
         }
-        if (n > 0) invert_spd(local, n);
         clear();
-        if (try_set<M>(k, set, local, b, bias, x)) {
+        if (try_set<M>(k, set, local, n, b, bias, x)) {
             k.last_set = set;
             k.last_known = true;
-            std::copy_n(local, 16, k.last_inv);
+            for (int p = 0; p < n; ++p)
+                for (int q = 0; q < n; ++q) k.last_inv[4 * p + q] = local[n * p + q];
             return true;
         }
     }
@@ -267,6 +281,7 @@ void Solver::fill_block(const Body& A, const Body& B, const double* n, const dou
     k.set_known = true;
     k.last_set = 0;
     k.last_known = false;
+    k.subsets_known = 0;
 }
 
 bool Solver::correct_block(std::size_t first, Block& k) {

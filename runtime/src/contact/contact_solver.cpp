@@ -621,7 +621,7 @@ void Solver::solve_contacts() {
     const bool jacobi = options_.scheme == ContactScheme::jacobi;
     for (Block& k : blocks_)
         for (std::size_t j = 0; j < k.count; ++j) k.jn[j] = rows_[k.first + j].jn, k.bias[j] = rows_[k.first + j].bias;
-    load_groups();
+    load_groups(!linear_positions()); // push_positions loaded them
     for (int it = 0; it < options_.velocity_iterations; ++it) {
         if (jacobi) snapshot_ = bodies_;
         // Friction first, limited by the normal impulse of the previous pass; Gauss–Seidel's

@@ -222,6 +222,7 @@ void Solver::detect_shapes(const World& w, double dt) {
     // Bounds: a sphere's box, a box's tight AABB, a capsule's segment's box grown by its
     // radius, each grown by its margin.
     bounds_.resize(n_rigid_);
+    turns_.resize(n_rigid_);
     for (std::size_t k = 0; k < n_rigid_; ++k) {
         const Body& b = bodies_[k];
         const Eigen::Vector3d c(b.p[0], b.p[1], b.p[2]);
@@ -229,7 +230,12 @@ void Solver::detect_shapes(const World& w, double dt) {
         AABB box;
         switch (b.shape) {
         case Shape::sphere: box = aabb_from_sphere(SphereBB{c, b.r}); break;
-        case Shape::box: box = aabb_from_obb(OBB{c, Eigen::Vector3d(b.h[0], b.h[1], b.h[2]), q}); break;
+        case Shape::box: { // aabb_from_obb, its rotation matrix kept for the narrow phase
+            turns_[k] = q.to_matrix();
+            const Eigen::Vector3d e = turns_[k].cwiseAbs() * Eigen::Vector3d(b.h[0], b.h[1], b.h[2]);
+            box = AABB{c - e, c + e};
+            break;
+        }
         case Shape::capsule: {
             const Eigen::Vector3d e = q.rotate(Eigen::Vector3d(0, b.h[1], 0)).cwiseAbs() + Eigen::Vector3d::Constant(b.r);
             box = AABB{c - e, c + e};
@@ -252,7 +258,7 @@ void Solver::detect_shapes(const World& w, double dt) {
                 continue;
             }
             const double margin = margin_of(p.a) + margin_of(p.b);
-            if (!collide(A, B, margin, m)) continue;
+            if (!collide(A, B, margin, m, &turns_[p.a], &turns_[p.b])) continue;
             add_manifold(m, p.a, p.b, -1);
         }
     }
@@ -279,7 +285,13 @@ void Solver::detect_shapes(const World& w, double dt) {
                 contacts_.push_back(c);
                 continue;
             }
-            if (!collide_plane(b, pl, margin_of(k), m)) continue;
+            // The body lies inside its bounds (grown by its margin): when their lowest corner
+            // clears the plane by more than rounding, nothing of it is within the margin.
+            const AABB& bb = bounds_[k];
+            const Eigen::Vector3d mid = 0.5 * (bb.lo + bb.hi), half = 0.5 * (bb.hi - bb.lo);
+            const double centre = pl.normal.dot(mid) - pl.offset, reach = pl.normal.cwiseAbs().dot(half);
+            if (centre - reach > 1e-12 * (std::abs(centre) + reach + std::abs(pl.offset))) continue;
+            if (!collide_plane(b, pl, margin_of(k), m, b.shape == Shape::box ? &turns_[k] : nullptr)) continue;
             add_manifold(m, static_cast<std::uint32_t>(k), stat, static_cast<int>(i));
         }
     }
@@ -368,8 +380,12 @@ void Solver::add_model_manifold(const Manifold& m, std::uint32_t a, std::uint32_
 }
 
 
-bool collide(const Body& A, const Body& B, double margin, Manifold& m) {
+bool collide(const Body& A, const Body& B, double margin, Manifold& m, const Eigen::Matrix3d* ra, const Eigen::Matrix3d* rb) {
     m.count = 0;
+    if (A.shape == Shape::box && B.shape == Shape::box && ra != nullptr && rb != nullptr) {
+        box_box(obb_of(A), *ra, obb_of(B), *rb, margin, m);
+        return m.count > 0;
+    }
     // Each pair of shapes once, a's shape the first; the other order by flipping.
     auto pair = [&](const Body& X, const Body& Y, bool flip) {
         switch (X.shape) {
@@ -398,9 +414,11 @@ bool collide(const Body& A, const Body& B, double margin, Manifold& m) {
     return m.count > 0;
 }
 
-bool collide_plane(const Body& A, const Plane& plane, double margin, Manifold& m) {
+bool collide_plane(const Body& A, const Plane& plane, double margin, Manifold& m, const Eigen::Matrix3d* ra) {
     m.count = 0;
-    if (A.shape == Shape::box)
+    if (A.shape == Shape::box && ra != nullptr)
+        box_plane(obb_of(A), *ra, plane, margin, m);
+    else if (A.shape == Shape::box)
         box_plane(obb_of(A), plane, margin, m);
     else if (A.shape == Shape::capsule)
         capsule_plane(capsule_of(A), plane, margin, m);

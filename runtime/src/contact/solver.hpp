@@ -157,6 +157,12 @@ struct Block {
     unsigned last_set = 0;
     bool last_known = false; // last_set is set (the empty set too: points held apart)
     double last_inv[16];
+    // solve_lcp's (K_SS + 1e-9 diag)⁻¹ of the smaller sets S, each computed once a step (when
+    // first tried; bit i of subsets_known: the i-th set of the search order): a block's search
+    // comes back to the same sets pass after pass. n × n each, packed (3-point sets, then
+    // 2-point, then single points: 64 doubles for four points).
+    std::uint16_t subsets_known = 0;
+    double subset_inv[64];
 };
 
 /// Four blocks with the same point count (or four point rows) on eight different bodies
@@ -166,6 +172,8 @@ struct Block {
 struct WideGroup {
     static constexpr int kLanes = 4;
     static constexpr int L = kLanes;
+    /// Not zeroed (3 kB): load_groups fills what the lanes read.
+    WideGroup() {} // NOLINT(modernize-use-equals-default): = default would zero it in emplace_back
     std::uint32_t block[L], a[L], b[L];
     int count = 0; // points per block (2 to 4); 1: four point rows (block: their rows; ra, rb
                    // their lever arms xa, xb; jn[0], bias[0] and mn their normal's)
@@ -358,6 +366,7 @@ public:
         if (n_rigid_ < n) model_pairs_.reserve(n * kReservedContactsPerBody);
         if (shape_field_ >= 0) { // manifolds: up to 4 points a pair
             bounds_.reserve(n);
+            turns_.reserve(n);
             sphere_pairs_list_.reserve(n * kReservedContactsPerBody);
             point_rows_.reserve(4 * contacts);
             rows_.reserve(5 * contacts);
@@ -439,7 +448,9 @@ private:
     /// solves them.
     void solve_block_normal(Block& k, const std::vector<Body>& from);
     /// WideGroups from blocks_ (after the warm start), and their impulses back into blocks_.
-    void load_groups();
+    /// `constants` false: only what the warm start and the position passes change (the
+    /// impulses, biases and last sets), the rest loaded already this step.
+    void load_groups(bool constants = true);
     void store_groups();
     /// One velocity pass over a WideGroup of M-point blocks: solve_block_friction, then
     /// solve_block_normal, for its four blocks at once — the same operations lane by lane; a
@@ -531,6 +542,7 @@ private:
     FieldId q_field_ = 0, qd_field_ = 0;
     int shape_field_ = -1;              // shape_field(layout): −1 in a world of spheres
     std::vector<AABB> bounds_;          // detect_shapes: per body
+    std::vector<Eigen::Matrix3d> turns_; // detect_shapes: each box's rotation matrix
     std::vector<CandidatePair> sphere_pairs_list_; // detect_shapes: the sphere–sphere pairs
     std::vector<Row> point_rows_;       // detect_shapes: the manifolds' rows
     std::vector<double> turn_;          // Jacobi position correction: 3 rotation components per body
@@ -599,8 +611,10 @@ private:
 
 /// The manifold of two bodies that are not both spheres (normal from B towards A), or of a
 /// body that is not a sphere and a plane; false if there is none.
-bool collide(const Body& A, const Body& B, double margin, Manifold& m);
-bool collide_plane(const Body& A, const Plane& plane, double margin, Manifold& m);
+/// ra, rb (optional): the bodies' rotation matrices, when known (a box's are used).
+bool collide(const Body& A, const Body& B, double margin, Manifold& m, const Eigen::Matrix3d* ra = nullptr,
+             const Eigen::Matrix3d* rb = nullptr);
+bool collide_plane(const Body& A, const Plane& plane, double margin, Manifold& m, const Eigen::Matrix3d* ra = nullptr);
 /// A rigid body of a world with shape fields as a scratch body: its position, orientation,
 /// shape and size (for the narrow phase only).
 Body shape_body(const World& w, Index i, int shape_field);

@@ -122,8 +122,22 @@ void pad_last(const Block& k, WideGroup& g, int l) {
 
 } // namespace
 
-void Solver::load_groups() {
+void Solver::load_groups(bool constants) {
     for (WideGroup& g : groups_) {
+        if (!constants) { // the impulses, biases and last sets only
+            for (int l = 0; l < WideGroup::kLanes; ++l) {
+                if (g.count == 1) {
+                    const Row& c = rows_[g.block[l]];
+                    g.jn[0][l] = c.jn, g.jt1[l] = c.jt1, g.jt2[l] = c.jt2, g.bias[0][l] = c.bias;
+                    continue;
+                }
+                const Block& k = blocks_[g.block[l]];
+                g.jt1[l] = k.jt1, g.jt2[l] = k.jt2, g.jtw[l] = k.jtw;
+                for (int j = 0; j < 4; ++j) g.jn[j][l] = k.jn[j], g.bias[j][l] = k.bias[j];
+                pad_last(k, g, l);
+            }
+            continue;
+        }
         if (g.count == 1) { // point rows: ra, rb their lever arms, jn[0], bias[0]
             for (int l = 0; l < WideGroup::kLanes; ++l) {
                 const Row& c = rows_[g.block[l]];

@@ -51,9 +51,14 @@ struct Manifold {
 /// from an incident vertex into a clipped point, as points of equal stacked boxes do at
 /// every jiggle); or the two edges.
 void box_box(const OBB& a, const OBB& b, double margin, Manifold& out);
+/// box_box given the boxes' rotation matrices ra = a.rotation.to_matrix(), rb likewise (a
+/// scene computes each body's once a step, not once per pair): the same manifold.
+void box_box(const OBB& a, const Eigen::Matrix3d& ra, const OBB& b, const Eigen::Matrix3d& rb, double margin, Manifold& out);
 /// Box a on a static plane: the vertices below the margin (at most 4, chosen as box_box
 /// does); feature id the vertex (bits: its signs along x, y, z).
 void box_plane(const OBB& a, const Plane& plane, double margin, Manifold& out);
+/// box_plane given r = a.rotation.to_matrix(): the same manifold.
+void box_plane(const OBB& a, const Eigen::Matrix3d& r, const Plane& plane, double margin, Manifold& out);
 /// Sphere a against box b: the closest point of the box to the centre (when the centre is
 /// inside, the nearest face); feature id the box's face, edge or vertex region.
 void sphere_box(const SphereBB& a, const OBB& b, double margin, Manifold& out);
