@@ -294,6 +294,7 @@ void Solver::setup_rows(double dt) {
     // to one body's worth instead of overshooting by the contact count (Tonge, Benevolenski &
     // Voroshilov, "Mass splitting for jitter-free parallel rigid body simulation", SIGGRAPH 2012).
     const bool jacobi = options_.scheme == ContactScheme::jacobi;
+    const bool linear = linear_positions();
     if (jacobi) {
         split_.assign(bodies_.size(), 0.0);
         for (const Row& c : rows_) {
@@ -307,7 +308,11 @@ void Solver::setup_rows(double dt) {
         const double sa = jacobi ? split_[c.a] : 1.0, sb = jacobi ? split_[c.b] : 1.0;
         if (c.point) {
             double xa[3], xb[3];
-            anchors(c, xa, xb);
+            if (linear) { // the points as found (add_manifold)
+                for (int k = 0; k < 3; ++k) xa[k] = c.xa[k], xb[k] = c.xb[k];
+            } else {
+                anchors(c, xa, xb);
+            }
             for (int k = 0; k < 3; ++k) {
                 const double mid = 0.5 * (xa[k] + xb[k]);
                 c.xa[k] = mid - A.p[k];

@@ -299,7 +299,10 @@ void Solver::detect_shapes(const World& w, double dt) {
     spheres_to_rows(w);
     if (n_capsules_ > 0) capsule_rows(dt);
     if (n_boxes_ > 0) model_box_rows(dt);
-    rows_.insert(rows_.end(), point_rows_.begin(), point_rows_.end());
+    if (rows_.empty())
+        rows_.swap(point_rows_); // (their capacities trade places: both are reserved alike)
+    else
+        rows_.insert(rows_.end(), point_rows_.begin(), point_rows_.end());
 }
 
 void Solver::model_sphere_contacts() {
@@ -440,22 +443,28 @@ void Solver::add_manifold(const Manifold& m, std::uint32_t a, std::uint32_t b, i
     const Body& A = bodies_[a];
     const Body& B = bodies_[b];
     const Quaternion qa{A.q[0], A.q[1], A.q[2], A.q[3]}, qb{B.q[0], B.q[1], B.q[2], B.q[3]};
+    // With linear position passes the bodies stay where they were found until setup_rows:
+    // it takes the points themselves (xa, xb), not their anchors in the bodies' frames.
+    const bool found = linear_positions();
     for (int k = 0; k < m.count; ++k) {
         const ManifoldPoint& p = m.points[static_cast<std::size_t>(k)];
-        Row r{};
+        Row& r = point_rows_.emplace_back();
         r.a = a;
         r.b = b;
         r.plane = plane;
         r.point = true;
         r.feature = p.feature;
         r.n[0] = m.normal.x(), r.n[1] = m.normal.y(), r.n[2] = m.normal.z();
-        const Eigen::Vector3d la = qa.rotate_inverse(p.on_a - Eigen::Vector3d(A.p[0], A.p[1], A.p[2]));
-        const Eigen::Vector3d lb = plane >= 0 ? p.on_b : qb.rotate_inverse(p.on_b - Eigen::Vector3d(B.p[0], B.p[1], B.p[2]));
-        for (int i = 0; i < 3; ++i) r.la[i] = la(i), r.lb[i] = lb(i);
+        if (found) {
+            for (int i = 0; i < 3; ++i) r.xa[i] = p.on_a(i), r.xb[i] = p.on_b(i);
+        } else {
+            const Eigen::Vector3d la = qa.rotate_inverse(p.on_a - Eigen::Vector3d(A.p[0], A.p[1], A.p[2]));
+            const Eigen::Vector3d lb = plane >= 0 ? p.on_b : qb.rotate_inverse(p.on_b - Eigen::Vector3d(B.p[0], B.p[1], B.p[2]));
+            for (int i = 0; i < 3; ++i) r.la[i] = la(i), r.lb[i] = lb(i);
+        }
         r.sep = p.separation;
         r.slot = -1;
         r.block_size = static_cast<std::uint8_t>(k == 0 ? m.count : 0);
-        point_rows_.push_back(r);
     }
 }
 

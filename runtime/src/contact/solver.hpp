@@ -119,7 +119,8 @@ struct Row {
     std::uint32_t feature = 0;   // ManifoldPoint::feature: with b, the warm-start key
     double la[3], lb[3];         // surface points in a's and b's body frames (b's: world for a plane,
                                  // the offset from the point at sb for a model side)
-    double xa[3], xb[3];         // lever arms r_a, r_b at the velocity solve
+    double xa[3], xb[3];         // lever arms r_a, r_b at the velocity solve (linear_positions:
+                                 // until setup_rows, the world points found, la and lb unused)
     std::uint8_t block_size = 1; // on a manifold's first row: its point count (0 on the others;
                                  // 1 on each row of a manifold with a model side)
     int block = -1;              // setup_blocks: the Block of a manifold of 2+ points (all its rows)
@@ -368,7 +369,7 @@ public:
             bounds_.reserve(n);
             turns_.reserve(n);
             sphere_pairs_list_.reserve(n * kReservedContactsPerBody);
-            point_rows_.reserve(4 * contacts);
+            point_rows_.reserve(5 * contacts); // as rows_: detect_shapes may swap them
             rows_.reserve(5 * contacts);
             turn_.reserve(3 * (n + 1));
             blocks_.reserve(contacts);
