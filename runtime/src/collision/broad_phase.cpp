@@ -200,34 +200,63 @@ void UniformGrid::find_pairs(std::span<const AABB> boxes, std::vector<CandidateP
         const std::size_t s = slot_for_insert(keys_[i]);
         sorted_[table_begin_[s] + table_count_[s]++] = static_cast<Index>(i);
     }
+    if (dense) {
+        // Cell by cell: the pairs within it and with its 13 neighbours ahead (each pair of
+        // neighbouring cells once) — five runs of sorted_, as the table orders its cells x
+        // fastest: the next cell along x, and the rows of three at (y + 1, z) and (y − 1..y + 1,
+        // z + 1) — intersects' six comparisons without branches (most neighbours miss on one);
+        // then the pairs in (a, b) order by a counting sort on a, each a's few b's by
+        // insertion, as the 27-cell scan per box would list them.
+        found_.clear();
+        auto test = [&](Index i, Index j) { // i < j
+            const AABB& a = boxes[i];
+            const AABB& c = boxes[j];
+            const bool hit = (a.hi.x() >= c.lo.x()) & (c.hi.x() >= a.lo.x()) & (a.hi.y() >= c.lo.y()) &
+                             (c.hi.y() >= a.lo.y()) & (a.hi.z() >= c.lo.z()) & (c.hi.z() >= a.lo.z());
+            if (hit) found_.push_back({i, j});
+        };
+        static constexpr int kRows[4][2] = {{1, 0}, {-1, 1}, {0, 1}, {1, 1}}; // (dy, dz) of the rows of three
+        for (std::int64_t z = 0; z < ext[2]; ++z)
+            for (std::int64_t y = 0; y < ext[1]; ++y)
+                for (std::int64_t x = 0; x < ext[0]; ++x) {
+                    const std::size_t s = dense_slot(x, y, z);
+                    const std::uint32_t b = table_begin_[s], e = b + table_count_[s];
+                    if (b == e) continue;
+                    for (std::uint32_t k = b; k < e; ++k) // a cell lists its boxes in index order
+                        for (std::uint32_t m = k + 1; m < e; ++m) test(sorted_[k], sorted_[m]);
+                    auto run = [&](std::uint32_t f, std::uint32_t g) {
+                        for (std::uint32_t k = b; k < e; ++k)
+                            for (std::uint32_t m = f; m < g; ++m) {
+                                const Index i = sorted_[k], j = sorted_[m];
+                                test(std::min(i, j), std::max(i, j));
+                            }
+                    };
+                    if (x + 1 < ext[0]) run(e, table_begin_[s + 1] + table_count_[s + 1]);
+                    const std::int64_t x0 = std::max<std::int64_t>(x - 1, 0), x1 = std::min<std::int64_t>(x + 1, ext[0] - 1);
+                    for (const auto& d : kRows) {
+                        const std::int64_t ny = y + d[0], nz = z + d[1];
+                        if (ny < 0 || ny >= ext[1] || nz >= ext[2]) continue;
+                        const std::size_t first = dense_slot(x0, ny, nz), last = dense_slot(x1, ny, nz);
+                        run(table_begin_[first], table_begin_[last] + table_count_[last]);
+                    }
+                }
+        first_.assign(n + 1, 0);
+        for (const CandidatePair& p : found_) ++first_[p.a + 1];
+        for (std::size_t i = 0; i < n; ++i) first_[i + 1] += first_[i];
+        out.resize(found_.size());
+        for (const CandidatePair& p : found_) out[first_[p.a]++] = p;
+        for (std::size_t i = 0, at = 0; i < n; ++i) { // first_[i]: now the end of a = i's pairs
+            for (std::size_t k = at + 1; k < first_[i]; ++k)
+                for (std::size_t m = k; m > at && out[m].b < out[m - 1].b; --m) std::swap(out[m], out[m - 1]);
+            at = first_[i];
+        }
+        return;
+    }
     for (std::size_t i = 0; i < n; ++i) {
         std::int64_t cx, cy, cz;
         unpack(keys_[i], cx, cy, cz);
         scratch_.clear();
-        if (dense) {
-            // A row of three cells along x is three neighbouring slots (the table orders its
-            // cells x fastest); each cell's boxes from the last down to the first beyond i, and
-            // intersects' six comparisons without branches (most neighbours miss on one).
-            const AABB& a = boxes[i];
-            const std::int64_t x0 = std::max<std::int64_t>(cx - 1, 0), x1 = std::min<std::int64_t>(cx + 1, ext[0] - 1);
-            for (std::int64_t dz = -1; dz <= 1; ++dz)
-                for (std::int64_t dy = -1; dy <= 1; ++dy) {
-                    const std::int64_t y = cy + dy, z = cz + dz;
-                    if (y < 0 || z < 0 || y >= ext[1] || z >= ext[2]) continue;
-                    const std::size_t first = dense_slot(x0, y, z), last = dense_slot(x1, y, z);
-                    for (std::size_t s = first; s <= last; ++s) {
-                        const std::uint32_t b = table_begin_[s];
-                        for (std::uint32_t k = b + table_count_[s]; k-- > b;) {
-                            const Index j = sorted_[k];
-                            if (j <= i) break;
-                            const AABB& c = boxes[j];
-                            const bool hit = (a.hi.x() >= c.lo.x()) & (c.hi.x() >= a.lo.x()) & (a.hi.y() >= c.lo.y()) &
-                                             (c.hi.y() >= a.lo.y()) & (a.hi.z() >= c.lo.z()) & (c.hi.z() >= a.lo.z());
-                            if (hit) scratch_.push_back(j);
-                        }
-                    }
-                }
-        } else {
+        {
             for (std::int64_t dz = -1; dz <= 1; ++dz)
                 for (std::int64_t dy = -1; dy <= 1; ++dy)
                     for (std::int64_t dx = -1; dx <= 1; ++dx) {

@@ -71,6 +71,8 @@ private:
     std::vector<std::uint32_t> table_begin_, table_count_;
     std::vector<Index> sorted_;             // boxes grouped by cell
     std::vector<Index> scratch_;
+    std::vector<CandidatePair> found_;      // dense tables: the pairs cell by cell, then sorted
+    std::vector<std::uint32_t> first_;      // dense tables: counting sort by the pairs' a
 };
 
 /// Throws std::invalid_argument if a box is not finite or has lo > hi.
