@@ -281,6 +281,74 @@ struct LaneBodies {
     }
 };
 
+/// solve_lcp's first two tries in each lane of `start`: x from the full set's pseudo-inverse,
+/// y from the last set's padded inverse (zero outside it), r = bias − b; full and last where
+/// each solves (x ≥ 0; y ≥ 0 and the points left out not sinking).
+template <int M>
+void try_full_and_last(const WideGroup& g, const Mask& start, const V* b, const V* r, V* x, V* y, Mask& full, Mask& last) {
+    const V zero = splat(0);
+    full = start;
+    for (int p = 0; p < M; ++p) { // try_full
+        x[p] = zero;
+        for (int q = 0; q < M; ++q) x[p] += load(g.inv[4 * p + q]) * r[q];
+        full &= x[p] >= 0;
+    }
+    last = start & (load(g.known) != 0); // try_set on the last set, zero terms between its points
+    Mask in[M];
+    for (int p = 0; p < M; ++p) {
+        in[p] = load(g.in[p]) != 0;
+        y[p] = zero;
+        for (int q = 0; q < M; ++q) y[p] += load(g.last[4 * p + q]) * r[q];
+        last &= ~in[p] | (y[p] >= 0);
+        y[p] = select(in[p], y[p], zero);
+    }
+    for (int i = 0; i < M; ++i) { // the points left out must not sink
+        V w = b[i];
+        for (int j = 0; j < M; ++j) w += load(g.k[4 * i + j]) * y[j];
+        const V bias = load(g.bias[i]);
+        const V size = select(bias < 0, -bias, bias); // std::abs
+        last &= in[i] | ~(w < bias - 1e-12 * (1 + size));
+    }
+}
+
+/// The normal impulses l_j at a block's points where `go` (solve_block's tail): v_a += Σ l_j
+/// n / m_a, ω_a += I_a⁻¹ Σ l_j u_j, and side b the opposite with its lever arms u_j + off.
+template <int M>
+void apply_normals(LaneBodies& lanes, const Mask& go, const V* l, const V (*ua)[3], const V* n, const V* off) {
+    const V zero = splat(0);
+    V total = zero, u0 = zero, u1 = zero, u2 = zero;
+    for (int j = 0; j < M; ++j) {
+        total += l[j];
+        u0 += l[j] * ua[j][0];
+        u1 += l[j] * ua[j][1];
+        u2 += l[j] * ua[j][2];
+    }
+    const V(&aii)[6] = lanes.aii, (&bii)[6] = lanes.bii;
+    const V wa0 = aii[0] * u0 + aii[3] * u1 + aii[4] * u2;
+    const V wa1 = aii[3] * u0 + aii[1] * u1 + aii[5] * u2;
+    const V wa2 = aii[4] * u0 + aii[5] * u1 + aii[2] * u2;
+    u0 += total * off[0];
+    u1 += total * off[1];
+    u2 += total * off[2];
+    const V wb0 = bii[0] * u0 + bii[3] * u1 + bii[4] * u2;
+    const V wb1 = bii[3] * u0 + bii[1] * u1 + bii[5] * u2;
+    const V wb2 = bii[4] * u0 + bii[5] * u1 + bii[2] * u2;
+    V(&av)[3] = lanes.av, (&aw)[3] = lanes.aw, (&bv)[3] = lanes.bv, (&bw)[3] = lanes.bw;
+    const V aim = lanes.aim, bim = lanes.bim;
+    av[0] = select(go, av[0] + aim * total * n[0], av[0]);
+    av[1] = select(go, av[1] + aim * total * n[1], av[1]);
+    av[2] = select(go, av[2] + aim * total * n[2], av[2]);
+    bv[0] = select(go, bv[0] - bim * total * n[0], bv[0]);
+    bv[1] = select(go, bv[1] - bim * total * n[1], bv[1]);
+    bv[2] = select(go, bv[2] - bim * total * n[2], bv[2]);
+    aw[0] = select(go, aw[0] + wa0, aw[0]);
+    aw[1] = select(go, aw[1] + wa1, aw[1]);
+    aw[2] = select(go, aw[2] + wa2, aw[2]);
+    bw[0] = select(go, bw[0] - wb0, bw[0]);
+    bw[1] = select(go, bw[1] - wb1, bw[1]);
+    bw[2] = select(go, bw[2] - wb2, bw[2]);
+}
+
 } // namespace
 
 template <int M>
@@ -288,9 +356,7 @@ void Solver::solve_group(WideGroup& g) {
     static_assert(WideGroup::kLanes == 4);
     // The lanes' bodies (distinct: pack_groups).
     LaneBodies lanes(bodies_, g);
-    V(&av)[3] = lanes.av, (&aw)[3] = lanes.aw, (&bv)[3] = lanes.bv, (&bw)[3] = lanes.bw;
-    const V(&aii)[6] = lanes.aii, (&bii)[6] = lanes.bii;
-    const V aim = lanes.aim, bim = lanes.bim;
+    const V(&av)[3] = lanes.av, (&aw)[3] = lanes.aw, (&bv)[3] = lanes.bv, (&bw)[3] = lanes.bw;
     V n[3], ra[3], rb[3];
     for (int d = 0; d < 3; ++d) n[d] = load(g.n[d]), ra[d] = load(g.ra[d]), rb[d] = load(g.rb[d]);
     const V zero = splat(0);
@@ -341,63 +407,17 @@ void Solver::solve_group(WideGroup& g) {
         for (int j = 0; j < M; ++j) b[i] -= load(g.k[4 * i + j]) * jn[j];
         r[i] = load(g.bias[i]) - b[i];
     }
-    // try_full: (K's pseudo-inverse)(bias − b) ≥ 0.
-    Mask full = zero == zero;
-    for (int p = 0; p < M; ++p) {
-        x[p] = zero;
-        for (int q = 0; q < M; ++q) x[p] += load(g.inv[4 * p + q]) * r[q];
-        full &= x[p] >= 0;
-    }
-    // try_set on the last set: its padded inverse, zero terms between the set's points.
-    Mask last = load(g.known) != 0;
-    Mask in[M];
-    for (int p = 0; p < M; ++p) {
-        in[p] = load(g.in[p]) != 0;
-        y[p] = zero;
-        for (int q = 0; q < M; ++q) y[p] += load(g.last[4 * p + q]) * r[q];
-        last &= ~in[p] | (y[p] >= 0);
-        y[p] = select(in[p], y[p], zero);
-    }
-    for (int i = 0; i < M; ++i) { // the points left out must not sink
-        V w = b[i];
-        for (int j = 0; j < M; ++j) w += load(g.k[4 * i + j]) * y[j];
-        const V bias = load(g.bias[i]);
-        const V size = select(bias < 0, -bias, bias); // std::abs
-        last &= in[i] | ~(w < bias - 1e-12 * (1 + size));
-    }
+    Mask full, last;
+    try_full_and_last<M>(g, zero == zero, b, r, x, y, full, last);
     // The solved lanes' impulses applied (solve_block's tail).
     const Mask solved = full | last;
-    V total = zero, u0 = zero, u1 = zero, u2 = zero;
+    V step[M];
     for (int j = 0; j < M; ++j) {
         const V xj = select(full, x[j], y[j]);
-        const V lj = xj - jn[j];
+        step[j] = xj - jn[j];
         store(g.jn[j], select(solved, xj, jn[j]));
-        total += lj;
-        u0 += lj * ua[j][0];
-        u1 += lj * ua[j][1];
-        u2 += lj * ua[j][2];
     }
-    const V wa0 = aii[0] * u0 + aii[3] * u1 + aii[4] * u2;
-    const V wa1 = aii[3] * u0 + aii[1] * u1 + aii[5] * u2;
-    const V wa2 = aii[4] * u0 + aii[5] * u1 + aii[2] * u2;
-    u0 += total * off[0];
-    u1 += total * off[1];
-    u2 += total * off[2];
-    const V wb0 = bii[0] * u0 + bii[3] * u1 + bii[4] * u2;
-    const V wb1 = bii[3] * u0 + bii[1] * u1 + bii[5] * u2;
-    const V wb2 = bii[4] * u0 + bii[5] * u1 + bii[2] * u2;
-    av[0] = select(solved, av[0] + aim * total * n[0], av[0]);
-    av[1] = select(solved, av[1] + aim * total * n[1], av[1]);
-    av[2] = select(solved, av[2] + aim * total * n[2], av[2]);
-    bv[0] = select(solved, bv[0] - bim * total * n[0], bv[0]);
-    bv[1] = select(solved, bv[1] - bim * total * n[1], bv[1]);
-    bv[2] = select(solved, bv[2] - bim * total * n[2], bv[2]);
-    aw[0] = select(solved, aw[0] + wa0, aw[0]);
-    aw[1] = select(solved, aw[1] + wa1, aw[1]);
-    aw[2] = select(solved, aw[2] + wa2, aw[2]);
-    bw[0] = select(solved, bw[0] - wb0, bw[0]);
-    bw[1] = select(solved, bw[1] - wb1, bw[1]);
-    bw[2] = select(solved, bw[2] - wb2, bw[2]);
+    apply_normals<M>(lanes, solved, step, ua, n, off);
     lanes.scatter(bodies_, g, ids_.size());
     for (int l = 0; l < 4; ++l) {
         if (solved[l] != 0) continue;
@@ -458,9 +478,7 @@ bool Solver::push_group(WideGroup& g) {
     // push_block lane by lane: the bodies' v and ω are their displacements and turns so far,
     // g.bias the points' −(separation at detection) − slop.
     LaneBodies lanes(bodies_, g);
-    V(&av)[3] = lanes.av, (&aw)[3] = lanes.aw, (&bv)[3] = lanes.bv, (&bw)[3] = lanes.bw;
-    const V(&aii)[6] = lanes.aii, (&bii)[6] = lanes.bii;
-    const V aim = lanes.aim, bim = lanes.bim;
+    const V(&av)[3] = lanes.av, (&aw)[3] = lanes.aw, (&bv)[3] = lanes.bv, (&bw)[3] = lanes.bw;
     V n[3], off[3];
     for (int d = 0; d < 3; ++d) n[d] = load(g.n[d]), off[d] = load(g.off[d]);
     const V zero = splat(0);
@@ -476,59 +494,13 @@ bool Solver::push_group(WideGroup& g) {
         deep |= r[i] > 0;
     }
     if (!any_lane(deep)) return false;
-    Mask full = deep;
-    for (int p = 0; p < M; ++p) {
-        x[p] = zero;
-        for (int q = 0; q < M; ++q) x[p] += load(g.inv[4 * p + q]) * r[q];
-        full &= x[p] >= 0;
-    }
-    Mask last = deep & (load(g.known) != 0);
-    Mask in[M];
-    for (int p = 0; p < M; ++p) {
-        in[p] = load(g.in[p]) != 0;
-        y[p] = zero;
-        for (int q = 0; q < M; ++q) y[p] += load(g.last[4 * p + q]) * r[q];
-        last &= ~in[p] | (y[p] >= 0);
-        y[p] = select(in[p], y[p], zero);
-    }
-    for (int i = 0; i < M; ++i) {
-        V w = b[i];
-        for (int j = 0; j < M; ++j) w += load(g.k[4 * i + j]) * y[j];
-        const V bias = load(g.bias[i]);
-        const V size = select(bias < 0, -bias, bias);
-        last &= in[i] | ~(w < bias - 1e-12 * (1 + size));
-    }
+    Mask full, last;
+    try_full_and_last<M>(g, deep, b, r, x, y, full, last);
     const Mask solved = full | last;
     const V beta = splat(options_.baumgarte);
-    V total = zero, u0 = zero, u1 = zero, u2 = zero;
-    for (int j = 0; j < M; ++j) {
-        const V lj = beta * select(full, x[j], y[j]);
-        total += lj;
-        u0 += lj * ua[j][0];
-        u1 += lj * ua[j][1];
-        u2 += lj * ua[j][2];
-    }
-    const V wa0 = aii[0] * u0 + aii[3] * u1 + aii[4] * u2;
-    const V wa1 = aii[3] * u0 + aii[1] * u1 + aii[5] * u2;
-    const V wa2 = aii[4] * u0 + aii[5] * u1 + aii[2] * u2;
-    u0 += total * off[0];
-    u1 += total * off[1];
-    u2 += total * off[2];
-    const V wb0 = bii[0] * u0 + bii[3] * u1 + bii[4] * u2;
-    const V wb1 = bii[3] * u0 + bii[1] * u1 + bii[5] * u2;
-    const V wb2 = bii[4] * u0 + bii[5] * u1 + bii[2] * u2;
-    av[0] = select(solved, av[0] + aim * total * n[0], av[0]);
-    av[1] = select(solved, av[1] + aim * total * n[1], av[1]);
-    av[2] = select(solved, av[2] + aim * total * n[2], av[2]);
-    bv[0] = select(solved, bv[0] - bim * total * n[0], bv[0]);
-    bv[1] = select(solved, bv[1] - bim * total * n[1], bv[1]);
-    bv[2] = select(solved, bv[2] - bim * total * n[2], bv[2]);
-    aw[0] = select(solved, aw[0] + wa0, aw[0]);
-    aw[1] = select(solved, aw[1] + wa1, aw[1]);
-    aw[2] = select(solved, aw[2] + wa2, aw[2]);
-    bw[0] = select(solved, bw[0] - wb0, bw[0]);
-    bw[1] = select(solved, bw[1] - wb1, bw[1]);
-    bw[2] = select(solved, bw[2] - wb2, bw[2]);
+    V push[M];
+    for (int j = 0; j < M; ++j) push[j] = beta * select(full, x[j], y[j]);
+    apply_normals<M>(lanes, solved, push, ua, n, off);
     lanes.scatter(bodies_, g, ids_.size());
     bool moved = any_lane(solved);
     for (int l = 0; l < 4; ++l) {
