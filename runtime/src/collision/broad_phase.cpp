@@ -113,7 +113,9 @@ namespace {
 std::size_t table_bound(std::size_t n) { return 4 * n + 1024; }
 } // namespace
 
-void UniformGrid::reserve(std::size_t boxes) {
+void UniformGrid::reserve(std::size_t boxes, std::size_t pairs) {
+    found_.reserve(pairs);
+    first_.reserve(boxes + 1);
     keys_.reserve(boxes);
     sorted_.reserve(boxes);
     scratch_.reserve(boxes);

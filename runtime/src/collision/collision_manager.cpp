@@ -20,7 +20,7 @@ void CollisionManager::reserve(std::size_t volumes, std::size_t pairs) {
     boxes_.reserve(volumes);
     pairs_.reserve(pairs);
     sap_.reserve(volumes);
-    grid_.reserve(volumes);
+    grid_.reserve(volumes, pairs);
 }
 
 const std::vector<CandidatePair>& CollisionManager::run_broad_phase() {

@@ -58,9 +58,9 @@ public:
     /// out ← every intersecting pair. Throws std::invalid_argument for a non-finite or
     /// inverted box (naming its index).
     void find_pairs(std::span<const AABB> boxes, std::vector<CandidatePair>& out);
-    /// Reserves the scratch (cell tables included, dense or hashed) for `boxes` boxes: later
-    /// calls with at most that many allocate nothing.
-    void reserve(std::size_t boxes);
+    /// Reserves the scratch (cell tables included, dense or hashed) for `boxes` boxes and
+    /// `pairs` intersecting pairs: later calls with at most that many allocate nothing.
+    void reserve(std::size_t boxes, std::size_t pairs = 0);
     /// The cell size used by the last call, m.
     [[nodiscard]] double cell_size() const noexcept { return cell_; }
 
