@@ -127,23 +127,32 @@ bool Solver::solve_block(Block& k, const std::vector<Body>& from) {
     }
     Body& A = bodies_[k.a];
     Body& B = bodies_[k.b];
-    double wa[3], wb[3];
-    mul_sym(A.ii, u, wa);
-    for (int d = 0; d < 3; ++d) u[d] += total * k.off[d];
     if (is_model_box(B)) { // −Σ λ_j n at its points: the force −total n, the moment −Σ λ_j r_b,j × n
+        double wa[3];
+        mul_sym(A.ii, u, wa);
+        for (int d = 0; d < 3; ++d) u[d] += total * k.off[d];
         const double force[3] = {-total * n[0], -total * n[1], -total * n[2]}, moment[3] = {-u[0], -u[1], -u[2]};
         for (int d = 0; d < 3; ++d) A.v[d] += A.im * total * n[d], A.w[d] += wa[d];
         model_wrench(B, force, moment, bodies_, false);
         return true;
     }
+    apply_block_normals(k, total, u);
+    return true;
+}
+
+void Solver::apply_block_normals(const Block& k, double total, double* u) {
+    Body& A = bodies_[k.a];
+    Body& B = bodies_[k.b];
+    double wa[3], wb[3];
+    mul_sym(A.ii, u, wa);
+    for (int d = 0; d < 3; ++d) u[d] += total * k.off[d];
     mul_sym(B.ii, u, wb);
     for (int d = 0; d < 3; ++d) {
-        A.v[d] += A.im * total * n[d];
-        B.v[d] -= B.im * total * n[d];
+        A.v[d] += A.im * total * k.n[d];
+        B.v[d] -= B.im * total * k.n[d];
         A.w[d] += wa[d];
         B.w[d] -= wb[d];
     }
-    return true;
 }
 
 namespace {

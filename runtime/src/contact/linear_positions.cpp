@@ -33,8 +33,8 @@ bool Solver::push_block(Block& k) {
     // applied.
     const std::size_t m = k.count;
     const double* n = k.n;
-    Body& A = bodies_[k.a];
-    Body& B = bodies_[k.b];
+    const Body& A = bodies_[k.a];
+    const Body& B = bodies_[k.b];
     double b[4] = {0, 0, 0, 0};
     bool deep = false;
     {
@@ -55,16 +55,7 @@ bool Solver::push_block(Block& k) {
         total += l;
         for (int d = 0; d < 3; ++d) u[d] += l * k.ua[j][d];
     }
-    double wa[3], wb[3];
-    mul_sym(A.ii, u, wa);
-    for (int d = 0; d < 3; ++d) u[d] += total * k.off[d];
-    mul_sym(B.ii, u, wb);
-    for (int d = 0; d < 3; ++d) {
-        A.v[d] += A.im * total * n[d];
-        B.v[d] -= B.im * total * n[d];
-        A.w[d] += wa[d];
-        B.w[d] -= wb[d];
-    }
+    apply_block_normals(k, total, u);
     return true;
 }
 

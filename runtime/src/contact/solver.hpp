@@ -466,6 +466,10 @@ private:
     /// The normal impulses of the block (k.jn, read against k.bias) with the velocities of
     /// `from`, applied to bodies_; false (nothing applied) when no set of pressing points solves it.
     bool solve_block(Block& k, const std::vector<Body>& from);
+    /// Normal impulses totalling `total` with moments u = Σ λ_j u_j (a's) at a block's points,
+    /// side b rigid or static: v_a += total n/m_a, ω_a += I_a⁻¹u, v_b −= total n/m_b,
+    /// ω_b −= I_b⁻¹(u + total off). u is overwritten.
+    void apply_block_normals(const Block& k, double total, double* u);
     /// x ≥ 0 with w = b + K x ≥ bias, complementary, from the largest set of pressing points down.
     bool solve_lcp(Block& k, const double* b, const double* bias, double* x) const;
     /// K of m points with lever arms ra, rb and normal n between A and B (split masses sa, sb),
