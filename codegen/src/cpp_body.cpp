@@ -4,6 +4,7 @@
 
 #include "phynjo/cas/node_map.hpp"
 
+#include <cassert>
 #include <map>
 #include <optional>
 #include <unordered_map>
@@ -98,7 +99,7 @@ public:
     Statements(const Names& names, const cas::CseResult& r, const std::vector<Expr>& vars, bool generic = false)
         : names_(names), spelling_(2 * vars.size()) {
         generic_ = generic;
-        if (generic) cpp_.math_prefix = kLanes;
+        cpp_.math_prefix = generic ? kLanes : names.math();
         chunked_ = r.assignments.size() + r.outputs.size() >= names.piece_threshold;
         if (chunked_) {
             array_ = names.temp_prefix() + "v"; // no temporary is PREFIX followed by a letter
@@ -195,7 +196,7 @@ void body_split(const Names& names, const std::vector<Expr>& outputs, const std:
     st.close(late);
 }
 
-std::string array_of(const std::string& name, const std::vector<std::string>& entries) {
+std::string array_of(const Names& names, const std::string& name, const std::vector<std::string>& entries) {
     if (auto first = consecutive(entries)) return "    const double* " + name + " = " + *first + ";\n";
     std::string s;
     if (entries.size() < kInlineEntries) {
@@ -203,12 +204,15 @@ std::string array_of(const std::string& name, const std::vector<std::string>& en
         for (std::size_t k = 0; k < entries.size(); ++k) s += (k ? ", " : "") + entries[k];
         return s + "};\n";
     }
-    return "    double " + name + "[" + std::to_string(entries.size()) + "];\n" + store_all(name, entries);
+    return "    double " + name + "[" + std::to_string(entries.size()) + "];\n" + store_all(names, name, entries, false);
 }
 
-std::string store_all(const std::string& target, const std::vector<std::string>& entries) {
-    if (auto first = consecutive(entries))
-        return "    std::copy_n(" + *first + ", " + std::to_string(entries.size()) + ", " + target + ".data());\n";
+std::string store_all(const Names& names, const std::string& target, const std::vector<std::string>& entries, bool span) {
+    if (auto first = consecutive(entries)) {
+        const std::string to = span ? names.data(target) : target, n = std::to_string(entries.size());
+        return names.kernel() ? "    __builtin_memcpy(" + to + ", " + *first + ", " + n + " * sizeof(double));\n"
+                              : "    std::copy_n(" + *first + ", " + n + ", " + to + ");\n";
+    }
     std::string s;
     if (entries.size() < kInlineEntries) {
         for (std::size_t k = 0; k < entries.size(); ++k) s += "    " + target + "[" + std::to_string(k) + "] = " + entries[k] + ";\n";
@@ -219,6 +223,27 @@ std::string store_all(const std::string& target, const std::vector<std::string>&
         pieces.add(s, "    " + target + "[" + std::to_string(k) + "] = " + entries[k] + ";\n");
     pieces.close(s);
     return s;
+}
+
+const char* Names::math() const noexcept { return kernel() ? kLanes : "std::"; }
+
+std::string Names::raise(std::string_view kind, const std::string& text, const std::string& value, const std::string& after) const {
+    if (!kernel()) {
+        std::string s = "throw " + std::string(kind) + "(" + text;
+        if (!value.empty()) s += " + std::to_string(" + value + ")";
+        if (!after.empty()) s += " + " + after;
+        return s + ");";
+    }
+    const char* status = kind == "phynjo::runtime::SingularMassMatrix" ? "PHYNJO_SINGULAR_MASS_MATRIX"
+                         : kind == "phynjo::runtime::NonFiniteResult"  ? "PHYNJO_NON_FINITE"
+                         : kind == "std::invalid_argument"             ? "PHYNJO_INVALID_ARGUMENT"
+                         : kind == "std::out_of_range"                 ? "PHYNJO_OUT_OF_RANGE"
+                                                                       : nullptr;
+    assert(status && "an exception kernels do not know");
+    std::string s = std::string("throw phynjo::kernel::Failure(") + status + ", " + text;
+    if (!value.empty()) s += ", " + value;
+    if (!after.empty()) s += ", " + after;
+    return s + ");";
 }
 
 std::string unused(bool uses_t, bool uses_params, bool has_t) {

@@ -63,7 +63,8 @@ std::string source_preamble(const Model& m, const std::string& header_name, bool
       << "[[maybe_unused]] inline void check_size(std::span<const double> a, std::size_t n, const char* function, const char* name) {\n"
       << "    if (a.size() != n) size_mismatch(a.size(), n, function, name);\n"
       << "}\n";
-    s << emit_derived_parameters(m) << emit_lane_parameters(m) << "} // namespace\n\n";
+    const Names names(m);
+    s << emit_derived_parameters(m, names) << emit_lane_parameters(m, names) << "} // namespace\n\n";
     return s.str();
 }
 

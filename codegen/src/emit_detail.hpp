@@ -24,6 +24,13 @@ inline std::string parameter_value(const Parameter& p) {
     return p.derived() ? "param_" + p.name + "(P)" : "P." + p.name;
 }
 
+/// What printed code is for: a source of phynjo_add_model (std::span arguments with their
+/// sizes checked, the runtime's solves and typed exceptions), or a model kernel
+/// (runtime/system/kernel_support.hpp: no standard header, pointer arguments whose sizes the
+/// C table guarantees, phynjo::kernel's solves, failures thrown as phynjo::kernel::Failure and
+/// returned as status codes). The arithmetic is printed the same in both: the same bits.
+enum class Flavor { source, kernel };
+
 class Names {
 public:
     explicit Names(const Model& m) {
@@ -70,6 +77,23 @@ public:
     void add_variable(Expr v, std::string local) { local_.emplace(v, std::move(local)); }
     /// Bodies of this many statements or more are computed in pieces (EmitOptions).
     std::size_t piece_threshold = kPieceThreshold;
+    Flavor flavor = Flavor::source;
+    [[nodiscard]] bool kernel() const noexcept { return flavor == Flavor::kernel; }
+    /// The prefix of plain bodies' math: std:: in a source, lanes.hpp's (the same functions,
+    /// no header) in a kernel.
+    [[nodiscard]] const char* math() const noexcept;
+    /// The namespace of the solves (KktFactor, solve_symmetric, solve_constrained).
+    [[nodiscard]] const char* solves() const noexcept { return kernel() ? "phynjo::kernel::" : "phynjo::runtime::"; }
+    /// std::size_t, or size_t (kernel_abi.h's <stddef.h>).
+    [[nodiscard]] const char* size_type() const noexcept { return kernel() ? "size_t" : "std::size_t"; }
+    /// `a.data()` of a std::span argument; the pointer itself in a kernel.
+    [[nodiscard]] std::string data(const std::string& a) const { return kernel() ? a : a + ".data()"; }
+    /// `throw KIND(…);`: `text` (a C++ string literal, quotes included), then the value of the
+    /// C++ expression `value` as std::to_string prints it (none when empty), then `after` (a
+    /// literal). KIND is one of the runtime's exceptions or std::invalid_argument,
+    /// std::out_of_range; in a kernel a phynjo::kernel::Failure of its status.
+    [[nodiscard]] std::string raise(std::string_view kind, const std::string& text, const std::string& value = {},
+                                    const std::string& after = {}) const;
 
 private:
     std::unordered_map<Expr, std::string> local_, load_;
@@ -98,10 +122,11 @@ void body_split(const Names& names, const std::vector<Expr>& outputs, const std:
 /// array (the outputs of a chunked body), `const double name[n] = {…};` when few, else
 /// `double name[n];` filled in pieces (one huge initializer is as slow to optimize as one
 /// huge function).
-std::string array_of(const std::string& name, const std::vector<std::string>& entries);
-/// `target[k] = entries[k];` for each k (target a std::span): one std::copy_n when the
-/// entries are consecutive elements of one array, in pieces when there are many.
-std::string store_all(const std::string& target, const std::vector<std::string>& entries);
+std::string array_of(const Names& names, const std::string& name, const std::vector<std::string>& entries);
+/// `target[k] = entries[k];` for each k (target a std::span argument, or a local array when not
+/// `span`): one copy when the entries are consecutive elements of one array, in pieces when
+/// there are many.
+std::string store_all(const Names& names, const std::string& target, const std::vector<std::string>& entries, bool span = true);
 
 /// Index of M_ij (either triangle) among the upper triangle of an n×n matrix listed row by row.
 inline std::size_t upper_index(std::size_t i, std::size_t j, std::size_t n) {
@@ -116,7 +141,7 @@ bool is_diagonal(const std::vector<Expr>& mass_matrix, std::size_t n);
 /// zero or below kSingularTolerance times the largest: else the statement `failure` (a throw of
 /// SingularMassMatrix, or a return).
 /// (Dividing by d[i] gives the bits of LDLᵀ on a diagonal matrix, without its O(n³) work.)
-std::string diagonal_mass(const std::vector<std::string>& diagonal, const std::string& failure);
+std::string diagonal_mass(const Names& names, const std::vector<std::string>& diagonal, const std::string& failure);
 
 
 /// The generated functions as the units `--parts` may place in different files: a unit ends
@@ -157,18 +182,20 @@ void emit_jacobians(const Model& m, const EquationsOfMotion& eom, Names names, D
 
 /// The generated header: parameters, every declaration of docs/generated-code.md.
 std::string emit_header(const Model& m, bool mass_depends_on_velocities);
+/// `struct Parameters {…};` with the defaults of the model file (the header's, a kernel's).
+std::string parameters_struct(const Model& m);
 /// The model's functions (mass_matrix, forcing, momenta, generalized_forces, accelerations,
 /// energy, the constrained ones, events, shapes, initial_state), printed from the optimize
 /// step's forms.
 void emit_functions(const Model& m, const OptimizedEquations& opt, const Names& names, Definitions& out);
 /// `param_NAME(P)` for each parameter defined from others: its assigned value, or its
 /// definition at the current values of the parameters it is defined from.
-std::string emit_derived_parameters(const Model& m);
+std::string emit_derived_parameters(const Model& m, const Names& names);
 /// For a model with lane kernels: `LaneParameters` (each parameter as lanes::Lanes, a lane per
 /// run), `lane_parameters(P)` gathering it from kWidth Parameters (a derived parameter's value
 /// as param_NAME gives it, lane by lane), and param_NAME(const LaneParameters&) for the loads
 /// of generic bodies; empty otherwise.
-std::string emit_lane_parameters(const Model& m);
+std::string emit_lane_parameters(const Model& m, const Names& names);
 /// The runtime glue: system(), make_world(), workflow().
 std::string emit_glue(const Model& m, bool mass_depends_on_velocities);
 /// main(): the runtime's command-line driver with the model's parameters.

@@ -17,14 +17,17 @@ bool is_diagonal(const std::vector<Expr>& mass_matrix, std::size_t n) {
     return true;
 }
 
-std::string diagonal_mass(const std::vector<std::string>& diagonal, const std::string& failure) {
+std::string diagonal_mass(const Names& names, const std::vector<std::string>& diagonal, const std::string& failure) {
     std::ostringstream s;
     s << "    const double d[" << diagonal.size() << "] = {";
     for (std::size_t i = 0; i < diagonal.size(); ++i) s << (i ? ", " : "") << diagonal[i];
-    s << "};\n    double top = 0;\n"
-      << "    for (double v : d) top = std::max(top, std::fabs(v));\n"
-      << "    for (double v : d)\n"
-      << "        if (!(std::fabs(v) > phynjo::runtime::kSingularTolerance * top))\n"
+    s << "};\n    double top = 0;\n";
+    if (names.kernel()) // std::max(top, |v|) is top < |v| ? |v| : top
+        s << "    for (double v : d) top = top < " << names.math() << "fabs(v) ? " << names.math() << "fabs(v) : top;\n";
+    else
+        s << "    for (double v : d) top = std::max(top, std::fabs(v));\n";
+    s << "    for (double v : d)\n"
+      << "        if (!(" << names.math() << "fabs(v) > phynjo::runtime::kSingularTolerance * top))\n"
       << "            " << failure << "\n";
     return s.str();
 }
@@ -63,6 +66,7 @@ struct FunctionPrinter {
 
     std::string sizes(const char* fn, std::initializer_list<std::pair<const char*, std::size_t>> arrays) const {
         std::string c;
+        if (names.kernel()) return c; // the C table passes arrays of these sizes
         for (const auto& [name, len] : arrays)
             c += "    check_size(" + std::string(name) + ", " + std::to_string(len) + ", \"" + fn + "\", \"" + name + "\");\n";
         return c;
@@ -73,14 +77,19 @@ struct FunctionPrinter {
         const Signature sig = signature(eom.mass_depends_on_velocities, fn);
         const bool with_qdot = sig.parameters.size() == 5; // P, t, q, q', out
         const std::string out = sig.output();
-        s << definition(sig)
+        s << head(fn)
           << (with_qdot ? sizes(fn, {{"q", n}, {"qdot", n}, {out.c_str(), 0}}) : sizes(fn, {{"q", n}, {out.c_str(), 0}}))
           << "    (void)P;\n    (void)t;\n";
         s.close();
         s << "\n";
     }
     /// The head of generated function `fn`'s definition (signatures.hpp).
-    std::string head(const char* fn) const { return definition(signature(eom.mass_depends_on_velocities, fn)); }
+    std::string head(const char* fn) const {
+        const Signature sig = signature(eom.mass_depends_on_velocities, fn);
+        return definition(names.kernel() ? in_kernel(sig) : sig);
+    }
+    /// The loop index's type.
+    std::string z() const { return names.size_type(); }
     /// M_ij (either triangle) among the results of a body whose first outputs are `upper`.
     const std::string& Mij(std::size_t i, std::size_t j) const { return res[upper_index(i, j, n)]; }
 
@@ -147,7 +156,7 @@ void FunctionPrinter::constrained() {
     for (std::size_t k = 0; k < mc * n; ++k) s << (k ? ", " : "") << res[off_g + k];
     s << "};\n    const double gamma[" << mc << "] = {";
     for (std::size_t k = 0; k < mc; ++k) s << (k ? ", " : "") << res[off_gamma + k];
-    s << "};\n    phynjo::runtime::solve_constrained<" << n << ", " << mc
+    s << "};\n    " << names.solves() << "solve_constrained<" << n << ", " << mc
       << ">(M, f, G, gamma, qddot, lambda, constraint_names, \"" << m.name
       << "::accelerations_and_multipliers\", t);\n";
     s.close();
@@ -184,7 +193,7 @@ void FunctionPrinter::constrained() {
         std::size_t k = 0;
         for (std::size_t r = 0; r < count.size(); ++r) {
             s << "    scale[" << r << "] = ";
-            for (std::size_t j = 0; j < count[r]; ++j) s << (j ? " + " : "") << "std::fabs(" << res[k++] << ")";
+            for (std::size_t j = 0; j < count[r]; ++j) s << (j ? " + " : "") << names.math() << "fabs(" << res[k++] << ")";
             s << ";\n";
         }
         s.close();
@@ -231,7 +240,7 @@ void FunctionPrinter::cores() {
           << unused(uses_t, uses_p) << unread(b) << b;
         auto fi = [&](std::size_t i) { return res[upper.size() + i]; };
         const std::string singular =
-            "throw phynjo::runtime::SingularMassMatrix(\"" + m.name + "::accelerations: the mass matrix is singular\");";
+            names.raise("phynjo::runtime::SingularMassMatrix", "\"" + m.name + "::accelerations: the mass matrix is singular\"");
         if (n == 1) {
             s << "    const auto m00 = " << Mij(0, 0) << ";\n"
               << "    if (" << L << "any(m00 == 0)) " << singular << "\n"
@@ -249,7 +258,7 @@ void FunctionPrinter::cores() {
         } else if (is_diagonal(eom.mass_matrix, n)) {
             std::vector<std::string> d;
             for (std::size_t i = 0; i < n; ++i) d.push_back(Mij(i, i));
-            s << diagonal_mass(d, singular);
+            s << diagonal_mass(names, d, singular);
             for (std::size_t i = 0; i < n; ++i) s << "    qddot[" << i << "] = (" << fi(i) << ")/d[" << i << "];\n";
         } else {
             s << "    double A[" << n * n << "] = {";
@@ -257,12 +266,13 @@ void FunctionPrinter::cores() {
                 for (std::size_t j = 0; j < n; ++j) s << (i || j ? ", " : "") << (j <= i ? Mij(i, j) : "0.0");
             s << "};\n    double b[" << n << "] = {";
             for (std::size_t i = 0; i < n; ++i) s << (i ? ", " : "") << fi(i);
-            s << "};\n    phynjo::runtime::solve_symmetric<" << n << ">(A, b);\n"
-              << "    for (std::size_t i = 0; i < " << n << "; ++i) qddot[i] = b[i];\n";
+            s << "};\n    " << names.solves() << "solve_symmetric<" << n << ">(A, b);\n"
+              << "    for (" << z() << " i = 0; i < " << n << "; ++i) qddot[i] = b[i];\n";
         }
-        s << "    for (std::size_t i = 0; i < " << n << "; ++i)\n"
-          << "        if (" << L << "not_finite(qddot[i])) throw phynjo::runtime::NonFiniteResult(\"" << m.name
-          << "::accelerations: non-finite result at t = \" + std::to_string(" << L << "first(t)));\n"
+        s << "    for (" << z() << " i = 0; i < " << n << "; ++i)\n"
+          << "        if (" << L << "not_finite(qddot[i])) "
+          << names.raise("phynjo::runtime::NonFiniteResult", "\"" + m.name + "::accelerations: non-finite result at t = \"", L + "first(t)")
+          << "\n"
           << "}" << glue << "\n";
     }
     {
@@ -284,30 +294,34 @@ void FunctionPrinter::cores() {
     }
     if (mc == 0)
         s << head("accelerations") << sizes("accelerations", {{"q", n}, {"qdot", n}, {"qddot", n}})
-          << "    accelerations_core(P, t, q.data(), qdot.data(), qddot.data());\n}" << glue << "\n";
+          << "    accelerations_core(P, t, " << names.data("q") << ", " << names.data("qdot") << ", " << names.data("qddot") << ");\n}"
+          << glue << "\n";
     s << head("event_guards") << sizes("event_guards", {{"q", n}, {"qdot", n}, {"g", ne}})
-      << "    guards_core(P, t, q.data(), qdot.data(), g.data());\n}" << glue << "\n";
-    s << head("energy") << sizes("energy", {{"q", n}, {"qdot", n}}) << "    return energy_core(P, t, q.data(), qdot.data());\n}" << glue
+      << "    guards_core(P, t, " << names.data("q") << ", " << names.data("qdot") << ", " << names.data("g") << ");\n}" << glue << "\n";
+    s << head("energy") << sizes("energy", {{"q", n}, {"qdot", n}}) << "    return energy_core(P, t, " << names.data("q") << ", " << names.data("qdot") << ");\n}" << glue
       << "\n";
     // rk4_step (phynjo extension): the runtime's lagrangian_rk4 rule, the same operations in
     // the same order (the same bits), its first stage's q'' given; the stages in a core that
     // rk4_step_values shares
     s << "template <class T, class PT>\n"
       << "[[maybe_unused]] static inline void rk4_stages(const PT& p, T t, T h, T* q, T* qdot, const T* qddot) {\n"
-      << "    std::array<T, " << n << "> q0, v0, aq, av, k;\n"
-      << "    for (std::size_t i = 0; i < " << n << "; ++i) {\n"
+      << (names.kernel() ? "    T q0[" + std::to_string(n) + "], v0[" + std::to_string(n) + "], aq[" + std::to_string(n) + "], av[" +
+                               std::to_string(n) + "], k[" + std::to_string(n) + "];\n"
+                         : "    std::array<T, " + std::to_string(n) + "> q0, v0, aq, av, k;\n")
+      << "    for (" << z() << " i = 0; i < " << n << "; ++i) {\n"
       << "        q0[i] = q[i];\n        v0[i] = qdot[i];\n        aq[i] = av[i] = T{};\n        k[i] = qddot[i];\n    }\n"
       << "    auto stage = [&](double weight, double next, bool last) {\n"
-      << "        for (std::size_t i = 0; i < " << n << "; ++i) {\n"
+      << "        for (" << z() << " i = 0; i < " << n << "; ++i) {\n"
       << "            const T kq = qdot[i], kv = k[i];\n"
       << "            aq[i] += weight * kq;\n            av[i] += weight * kv;\n"
       << "            if (last) {\n                q[i] = q0[i] + h * aq[i];\n                qdot[i] = v0[i] + h * av[i];\n"
       << "            } else {\n                q[i] = q0[i] + next * h * kq;\n                qdot[i] = v0[i] + next * h * kv;\n"
       << "            }\n        }\n    };\n";
     auto stage_at = [&](const char* c) {
-        return mc == 0 ? "    accelerations_core(p, t + " + std::string(c) + " * h, q, qdot, k.data());\n"
-                       : "    accelerations(p, t + " + std::string(c) + " * h, std::span<const double>(q, " + std::to_string(n) +
-                             "), std::span<const double>(qdot, " + std::to_string(n) + "), k);\n";
+        if (mc == 0) return "    accelerations_core(p, t + " + std::string(c) + " * h, q, qdot, " + names.data("k") + ");\n";
+        if (names.kernel()) return "    accelerations(p, t + " + std::string(c) + " * h, q, qdot, k);\n";
+        return "    accelerations(p, t + " + std::string(c) + " * h, std::span<const double>(q, " + std::to_string(n) +
+               "), std::span<const double>(qdot, " + std::to_string(n) + "), k);\n";
     };
     s << "    stage(1.0 / 6, 0.5, false);\n" << stage_at("0.5") << "    stage(2.0 / 6, 0.5, false);\n" << stage_at("0.5")
       << "    stage(2.0 / 6, 1.0, false);\n" << stage_at("1.0") << "    stage(1.0 / 6, 0, true);\n}" << glue << "\n";
@@ -317,26 +331,32 @@ void FunctionPrinter::cores() {
     s << "template <class T, class PT>\n"
       << "[[maybe_unused]] static inline bool values_core(const PT& P, T t, const T* q, const T* qdot, T* qddot, T& E,\n"
       << "                                              T* g) {\n"
-      << "    std::array<T, " << n << "> x, v;\n"
-      << "    std::copy_n(q, " << n << ", x.begin());\n"
-      << "    std::copy_n(qdot, " << n << ", v.begin());\n"
-      << "    E = energy_core(P, t, x.data(), v.data());\n"
-      << "    guards_core(P, t, x.data(), v.data(), g);\n"
+      << (names.kernel() ? "    T x[" + std::to_string(n) + "], v[" + std::to_string(n) + "];\n    for (size_t i = 0; i < " +
+                               std::to_string(n) + "; ++i) {\n        x[i] = q[i];\n        v[i] = qdot[i];\n    }\n"
+                         : "    std::array<T, " + std::to_string(n) + "> x, v;\n    std::copy_n(q, " + std::to_string(n) +
+                               ", x.begin());\n    std::copy_n(qdot, " + std::to_string(n) + ", v.begin());\n")
+      << "    E = energy_core(P, t, " << names.data("x") << ", " << names.data("v") << ");\n"
+      << "    guards_core(P, t, " << names.data("x") << ", " << names.data("v") << ", g);\n"
       << "    try {\n"
-      << (mc == 0 ? "        accelerations_core(P, t, x.data(), v.data(), qddot);\n"
-                  : "        accelerations(P, t, x, v, std::span<double>(qddot, " + std::to_string(n) + "));\n")
-      << "    } catch (const phynjo::runtime::Error&) {\n        return false;\n    }\n    return true;\n}" << glue << "\n";
+      << (mc == 0            ? "        accelerations_core(P, t, " + names.data("x") + ", " + names.data("v") + ", qddot);\n"
+          : names.kernel() ? std::string("        accelerations(P, t, x, v, qddot);\n")
+                           : "        accelerations(P, t, x, v, std::span<double>(qddot, " + std::to_string(n) + "));\n")
+      << "    } catch (const " << (names.kernel() ? "phynjo::kernel::Failure" : "phynjo::runtime::Error")
+      << "&) {\n        return false;\n    }\n    return true;\n}" << glue << "\n";
     s << head("rk4_step") << sizes("rk4_step", {{"q", n}, {"qdot", n}, {"qddot", n}})
       << "    // the parameters in a local, which no store through q or qdot can change: the compiler\n"
       << "    // then computes their products once for all stages\n"
       << "    const Parameters p = P;\n"
-      << "    rk4_stages(p, t, h, q.data(), qdot.data(), qddot.data());\n}" << glue << "\n";
+      << "    rk4_stages(p, t, h, " << names.data("q") << ", " << names.data("qdot") << ", " << names.data("qddot") << ");\n}" << glue
+      << "\n";
     s << head("accelerations_energy_guards") << sizes("accelerations_energy_guards", {{"q", n}, {"qdot", n}, {"qddot", n}, {"g", ne}})
-      << "    return values_core(P, t, q.data(), qdot.data(), qddot.data(), E, g.data());\n}" << glue << "\n";
+      << "    return values_core(P, t, " << names.data("q") << ", " << names.data("qdot") << ", " << names.data("qddot") << ", E, "
+      << names.data("g") << ");\n}" << glue << "\n";
     s << head("rk4_step_values") << sizes("rk4_step_values", {{"q", n}, {"qdot", n}, {"qddot", n}, {"g", ne}})
       << "    const Parameters p = P;\n"
-      << "    rk4_stages(p, t, h, q.data(), qdot.data(), qddot.data());\n"
-      << "    return values_core(p, t1, q.data(), qdot.data(), qddot.data(), E, g.data());\n";
+      << "    rk4_stages(p, t, h, " << names.data("q") << ", " << names.data("qdot") << ", " << names.data("qddot") << ");\n"
+      << "    return values_core(p, t1, " << names.data("q") << ", " << names.data("qdot") << ", " << names.data("qddot") << ", E, "
+      << names.data("g") << ");\n";
     if (has_lane_kernel(m)) { // the lane kernels below share the cores' file
         s << "}" << glue << "\n";
     } else {
@@ -349,21 +369,25 @@ void FunctionPrinter::cores() {
 /// cores instantiated for Lanes and LaneParameters (the preamble's).
 void FunctionPrinter::lane_kernels() {
     s << head("rk4_step_values_lanes_each") << "    namespace lanes = phynjo::runtime::lanes;\n"
-      << "    constexpr std::size_t W = lanes::kWidth;\n"
-      << "    std::array<lanes::Lanes, " << n << "> x, v, a;\n"
-      << "    std::array<lanes::Lanes, " << ne << "> gl;\n"
+      << "    constexpr " << z() << " W = lanes::kWidth;\n"
+      << (names.kernel() ? "    lanes::Lanes x[" + std::to_string(n) + "], v[" + std::to_string(n) + "], a[" + std::to_string(n) +
+                               "];\n    lanes::Lanes gl[" + std::to_string(ne > 0 ? ne : 1) + "];\n"
+                         : "    std::array<lanes::Lanes, " + std::to_string(n) + "> x, v, a;\n    std::array<lanes::Lanes, " +
+                               std::to_string(ne) + "> gl;\n")
       << "    lanes::Lanes e;\n"
-      << "    for (std::size_t i = 0; i < " << n << "; ++i) {\n"
+      << "    for (" << z() << " i = 0; i < " << n << "; ++i) {\n"
       << "        x[i] = lanes::load(q + i * W);\n        v[i] = lanes::load(qdot + i * W);\n"
       << "        a[i] = lanes::load(qddot + i * W);\n    }\n"
       << "    const LaneParameters p = lane_parameters(P);\n"
-      << "    rk4_stages(p, lanes::load(t), lanes::load(h), x.data(), v.data(), a.data());\n"
-      << "    const bool ok = values_core(p, lanes::load(t1), x.data(), v.data(), a.data(), e, gl.data());\n"
-      << "    for (std::size_t i = 0; i < " << n << "; ++i) {\n"
+      << "    rk4_stages(p, lanes::load(t), lanes::load(h), " << names.data("x") << ", " << names.data("v") << ", " << names.data("a")
+      << ");\n"
+      << "    const bool ok = values_core(p, lanes::load(t1), " << names.data("x") << ", " << names.data("v") << ", " << names.data("a")
+      << ", e, " << names.data("gl") << ");\n"
+      << "    for (" << z() << " i = 0; i < " << n << "; ++i) {\n"
       << "        lanes::store(q + i * W, x[i]);\n        lanes::store(qdot + i * W, v[i]);\n"
       << "        lanes::store(qddot + i * W, a[i]);\n    }\n"
       << "    lanes::store(E, e);\n"
-      << (ne > 0 ? "    for (std::size_t k = 0; k < " + std::to_string(ne) + "; ++k) lanes::store(g + k * W, gl[k]);\n"
+      << (ne > 0 ? "    for (" + z() + " k = 0; k < " + std::to_string(ne) + "; ++k) lanes::store(g + k * W, gl[k]);\n"
                  : std::string("    (void)g;\n"))
       << "    return ok;\n}" << glue << "\n";
     s << head("rk4_step_values_lanes") << "    const void* each[phynjo::runtime::lanes::kWidth];\n"
@@ -397,9 +421,10 @@ void FunctionPrinter::apply_event() {
         }
         s << "        return;\n    }\n";
     }
-    s << "    default: break;\n    }\n"
-      << "    throw std::out_of_range(\"" << m.name << "::apply_event: event \" + std::to_string(k) + \" (the model has "
-      << ne << ")\");\n";
+    s << "    default: break;\n    }\n    "
+      << names.raise("std::out_of_range", "\"" + m.name + "::apply_event: event \"", "k",
+                     "\" (the model has " + std::to_string(ne) + ")\"")
+      << "\n";
         s.close();
         s << "\n";
 }
@@ -419,9 +444,11 @@ void FunctionPrinter::shapes() {
         s << head(fn) << sizes(fn, {{"q", n}, {out, exprs.size()}}) << unused(uses_t, uses_p) << b;
         for (std::size_t k = exprs.size(); k < all.size(); ++k) {
             const std::string& what = opt.box_axis_checks[k - exprs.size()].what;
-            s << "    if (!(" << res[k] << " > 0) || !std::isfinite(" << res[k] << "))\n"
-              << "        throw std::invalid_argument(\"" << m.name << "::" << fn << ": " << what
-              << " has length zero at these parameters (|a|^2 = \" + std::to_string(" << res[k] << ") + \")\");\n";
+            s << "    if (!(" << res[k] << " > 0) || " << (names.kernel() ? "!__builtin_isfinite(" : "!std::isfinite(") << res[k] << "))\n"
+              << "        "
+              << names.raise("std::invalid_argument",
+                             "\"" + m.name + "::" + fn + ": " + what + " has length zero at these parameters (|a|^2 = \"", res[k], "\")\"")
+              << "\n";
         }
         for (std::size_t k = 0; k < exprs.size(); ++k) s << "    " << out << "[" << k << "] = " << res[k] << ";\n";
         s.close();
@@ -438,7 +465,7 @@ void FunctionPrinter::shapes() {
     };
     for (const auto& [fn, out, values] : {Sizes{"sphere_radii", "r", &opt.sphere_radii}, Sizes{"capsule_radii", "r", &opt.capsule_radii},
                                           Sizes{"box_half_extents", "h", &opt.box_half_extents}}) {
-        s << head(fn) << "    check_size(" << out << ", " << values->size() << ", \"" << fn << "\", \"" << out << "\");\n";
+        s << head(fn) << sizes(fn, {{out, values->size()}});
         if (values->empty()) s << "    (void)P;\n";
         else {
             const std::string b = body(names, *values, res, uses_t, uses_p);

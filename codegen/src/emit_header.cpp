@@ -7,6 +7,22 @@
 
 namespace phynjo::codegen::detail {
 
+std::string parameters_struct(const Model& m) {
+    std::ostringstream h;
+    h << "/// The parameters, with the defaults of the model file. A parameter defined from others\n"
+      << "/// (phynjo::runtime::Derived) follows them until it is assigned a value.\nstruct Parameters {\n";
+    for (const auto& p : m.parameters) {
+        if (p.derived())
+            h << "    phynjo::runtime::Derived " << p.name << " = phynjo::runtime::Derived::following("
+              << cas::double_literal(p.default_value) << "); ///< " << cas::to_string(p.definition) << "\n";
+        else
+            h << "    double " << p.name << " = " << cas::double_literal(p.default_value) << "; ///< "
+              << (p.input ? "input; default " : "") << cas::to_string(p.value) << "\n";
+    }
+    h << "};\n";
+    return h.str();
+}
+
 std::string emit_header(const Model& m, bool mass_depends_on_velocities) {
     const std::size_t n = m.dof();
     const std::string guard = "PHYNJO_MODEL_" + m.name;
@@ -76,17 +92,7 @@ std::string emit_header(const Model& m, bool mass_depends_on_velocities) {
       << "inline constexpr std::size_t n_spheres = " << n_spheres << ";\n"
       << "inline constexpr std::size_t n_capsules = " << n_capsules << ";\n"
       << "inline constexpr std::size_t n_boxes = " << n_boxes << ";\n";
-    h << "\n/// The parameters, with the defaults of the model file. A parameter defined from others\n"
-      << "/// (phynjo::runtime::Derived) follows them until it is assigned a value.\nstruct Parameters {\n";
-    for (const auto& p : m.parameters) {
-        if (p.derived())
-            h << "    phynjo::runtime::Derived " << p.name << " = phynjo::runtime::Derived::following("
-              << cas::double_literal(p.default_value) << "); ///< " << cas::to_string(p.definition) << "\n";
-        else
-            h << "    double " << p.name << " = " << cas::double_literal(p.default_value) << "; ///< "
-              << (p.input ? "input; default " : "") << cas::to_string(p.value) << "\n";
-    }
-    h << "};\n\n"
+    h << "\n" << parameters_struct(m) << "\n"
       << "// All arrays have length dof (M: dof*dof, row-major); a wrong length throws\n"
       << "// std::invalid_argument. None of these allocate.\n\n"
       << (mass_depends_on_velocities
@@ -209,10 +215,11 @@ std::string emit_header(const Model& m, bool mass_depends_on_velocities) {
     return h.str();
 }
 
-std::string emit_derived_parameters(const Model& m) {
+std::string emit_derived_parameters(const Model& m, const Names& names) {
     std::unordered_map<Expr, std::string> value;
     for (const Parameter& p : m.parameters) value.emplace(p.symbol, parameter_value(p));
     cas::CppOptions cpp;
+    cpp.math_prefix = names.math();
     cpp.variable_name = [&](Expr v) { return value.at(v); };
     std::ostringstream s;
     for (const Parameter& p : m.parameters)
@@ -223,7 +230,7 @@ std::string emit_derived_parameters(const Model& m) {
     return s.str();
 }
 
-std::string emit_lane_parameters(const Model& m) {
+std::string emit_lane_parameters(const Model& m, const Names& names) {
     if (!has_lane_kernel(m)) return {};
     std::ostringstream s;
     s << "/// A Parameters per lane (rk4_step_values_lanes_each): lane l of each field is run l's value.\n"
@@ -237,7 +244,7 @@ std::string emit_lane_parameters(const Model& m) {
     s << "/// Lane l from *static_cast<const Parameters*>(P[l]).\n"
       << "[[maybe_unused]] LaneParameters lane_parameters(const void* const* P) {\n"
       << "    LaneParameters r;\n"
-      << "    for (std::size_t l = 0; l < phynjo::runtime::lanes::kWidth; ++l) {\n"
+      << "    for (" << names.size_type() << " l = 0; l < phynjo::runtime::lanes::kWidth; ++l) {\n"
       << "        const Parameters& p = *static_cast<const Parameters*>(P[l]);\n";
     if (m.parameters.empty()) s << "        (void)p;\n        (void)r;\n";
     for (const Parameter& p : m.parameters)

@@ -11,17 +11,24 @@ namespace phynjo::codegen::detail {
 
 namespace {
 
+/// The head of generated function `fn`'s definition, in the flavor of `names`.
+std::string head(const Names& names, const EquationsOfMotion& eom, const char* fn) {
+    const Signature sig = signature(eom.mass_depends_on_velocities, fn);
+    return definition(names.kernel() ? in_kernel(sig) : sig);
+}
+
 /// One Jacobian function: `fn` fills `out` ((2·dof)×cols, row-major) from ∂r (dof×cols) and
 /// ∂c (n_constraints×cols); the top rows are `top` (the identity block of ∂q'/∂q' for
 /// rhs_jacobian, zero for input_jacobian).
 void emit_one(Definitions& s, const Model& m, const EquationsOfMotion& eom, const Names& names, const char* fn,
               const char* out, std::size_t cols, const std::vector<Expr>& dr, const std::vector<Expr>& dc, bool identity_top) {
     const std::size_t n = eom.dof, mc = eom.n_constraints;
-    const std::string size_checks = "    check_size(q, " + std::to_string(n) + ", \"" + fn + "\", \"q\");\n" +
-                                    "    check_size(qdot, " + std::to_string(n) + ", \"" + fn + "\", \"qdot\");\n" +
-                                    "    check_size(" + out + ", " + std::to_string(2 * n * cols) + ", \"" + fn + "\", \"" +
-                                    out + "\");\n";
-    s << definition(signature(eom.mass_depends_on_velocities, fn)) << size_checks;
+    const std::string size_checks = names.kernel() ? std::string()
+                                                   : "    check_size(q, " + std::to_string(n) + ", \"" + fn + "\", \"q\");\n" +
+                                                         "    check_size(qdot, " + std::to_string(n) + ", \"" + fn + "\", \"qdot\");\n" +
+                                                         "    check_size(" + out + ", " + std::to_string(2 * n * cols) + ", \"" + fn +
+                                                         "\", \"" + out + "\");\n";
+    s << head(names, eom, fn) << size_checks;
     if (cols == 0) {
         s << "    (void)P;\n    (void)t;\n";
         s.close();
@@ -52,7 +59,7 @@ void emit_one(Definitions& s, const Model& m, const EquationsOfMotion& eom, cons
     auto array = [&](const char* name, std::size_t len, auto&& entry) {
         std::vector<std::string> entries;
         for (std::size_t k = 0; k < len; ++k) entries.push_back(entry(k));
-        s << array_of(name, entries);
+        s << array_of(names, name, entries);
     };
     // M diagonal, no constraints (particles in Cartesian coordinates): rows divided by M_ii,
     // the numbers LDLᵀ gives for a diagonal matrix without its O(n³) factorization and
@@ -61,7 +68,7 @@ void emit_one(Definitions& s, const Model& m, const EquationsOfMotion& eom, cons
     if (diagonal) {
         std::vector<std::string> d;
         for (std::size_t i = 0; i < n; ++i) d.push_back(res[upper_index(i, i, n)]);
-        s << diagonal_mass(d, "throw phynjo::runtime::SingularMassMatrix(\"" + where + ": the mass matrix is singular\");")
+        s << diagonal_mass(names, d, names.raise("phynjo::runtime::SingularMassMatrix", "\"" + where + ": the mass matrix is singular\""))
           << "    double acc[" << n << "];\n";
         for (std::size_t i = 0; i < n; ++i) s << "    acc[" << i << "] = (" << res[off_f + i] << ")/d[" << i << "];\n";
         s << "    (void)acc; // read by the entries only when M depends on q\n";
@@ -74,12 +81,12 @@ void emit_one(Definitions& s, const Model& m, const EquationsOfMotion& eom, cons
         if (mc > 0) {
             array("G", mc * n, [&](std::size_t k) { return res[off_g + k]; });
             array("gamma", mc, [&](std::size_t k) { return res[off_gamma + k]; });
-            s << "    const phynjo::runtime::KktFactor<" << n << ", " << mc << "> kkt(M, G, constraint_names, \"" << where
+            s << "    const " << names.solves() << "KktFactor<" << n << ", " << mc << "> kkt(M, G, constraint_names, \"" << where
               << "\", t);\n"
               << "    double acc[" << n << "], lambda[" << mc << "];\n"
               << "    kkt.solve(f, gamma, acc, lambda);\n";
         } else {
-            s << "    const phynjo::runtime::KktFactor<" << n << ", 0> kkt(M);\n"
+            s << "    const " << names.solves() << "KktFactor<" << n << ", 0> kkt(M);\n"
               << "    double acc[" << n << "];\n"
               << "    kkt.solve(f, nullptr, acc, nullptr);\n";
         }
@@ -87,18 +94,19 @@ void emit_one(Definitions& s, const Model& m, const EquationsOfMotion& eom, cons
     s << later;
     array("dr", n * cols, [&](std::size_t k) { return res[off_r + k]; });
     if (mc > 0) array("dc", mc * cols, [&](std::size_t k) { return res[off_c + k]; });
-    s << "    for (std::size_t k = 0; k < " << n * cols << "; ++k) " << out << "[k] = 0.0;\n";
-    if (identity_top) s << "    for (std::size_t i = 0; i < " << n << "; ++i) " << out << "[i * " << cols << " + " << n << " + i] = 1.0;\n";
+    const std::string z = names.size_type();
+    s << "    for (" << z << " k = 0; k < " << n * cols << "; ++k) " << out << "[k] = 0.0;\n";
+    if (identity_top) s << "    for (" << z << " i = 0; i < " << n << "; ++i) " << out << "[i * " << cols << " + " << n << " + i] = 1.0;\n";
     if (diagonal)
-        s << "    for (std::size_t i = 0; i < " << n << "; ++i)\n"
-          << "        for (std::size_t j = 0; j < " << cols << "; ++j) " << out << "[" << n * cols << " + i * " << cols
+        s << "    for (" << z << " i = 0; i < " << n << "; ++i)\n"
+          << "        for (" << z << " j = 0; j < " << cols << "; ++j) " << out << "[" << n * cols << " + i * " << cols
           << " + j] = dr[i * " << cols << " + j]/d[i];\n";
     else
-        s << "    kkt.solve_columns(" << cols << ", dr, " << (mc > 0 ? "dc" : "nullptr") << ", " << out << ".data() + "
+        s << "    kkt.solve_columns(" << cols << ", dr, " << (mc > 0 ? "dc" : "nullptr") << ", " << names.data(out) << " + "
           << n * cols << ");\n";
-    s << "    for (std::size_t k = " << n * cols << "; k < " << 2 * n * cols << "; ++k)\n"
-      << "        if (!std::isfinite(" << out << "[k])) throw phynjo::runtime::NonFiniteResult(\"" << where
-      << ": non-finite result at t = \" + std::to_string(t));\n";
+    s << "    for (" << z << " k = " << n * cols << "; k < " << 2 * n * cols << "; ++k)\n"
+      << "        if (" << (names.kernel() ? "!__builtin_isfinite(" : "!std::isfinite(") << out << "[k])) "
+      << names.raise("phynjo::runtime::NonFiniteResult", "\"" + where + ": non-finite result at t = \"", "t") << "\n";
     s.close();
     s << "\n";
 }
@@ -123,16 +131,17 @@ void emit_jacobians(const Model& m, const EquationsOfMotion& eom, Names names, D
         std::vector<std::string> res;
         bool uses_t = false, uses_p = false;
         const std::string b = body(names, all, res, uses_t, uses_p);
-        s << definition(signature(eom.mass_depends_on_velocities, "canonical_jacobian"));
-        for (const auto& [name, len] : std::initializer_list<std::pair<const char*, std::size_t>>{
-                 {"q", n}, {"qdot", n}, {"p", n}, {"F", n}, {"dp", 2 * n * n}, {"dF", 2 * n * n}})
-            s << "    check_size(" << name << ", " << len << ", \"canonical_jacobian\", \"" << name << "\");\n";
+        s << head(names, eom, "canonical_jacobian");
+        if (!names.kernel())
+            for (const auto& [name, len] : std::initializer_list<std::pair<const char*, std::size_t>>{
+                     {"q", n}, {"qdot", n}, {"p", n}, {"F", n}, {"dp", 2 * n * n}, {"dF", 2 * n * n}})
+                s << "    check_size(" << name << ", " << len << ", \"canonical_jacobian\", \"" << name << "\");\n";
         s << unused(uses_t, uses_p) << b;
         const char* outs[] = {"p", "F", "dp", "dF"};
         const std::size_t lens[] = {n, n, 2 * n * n, 2 * n * n};
         std::size_t k = 0;
         for (int o = 0; o < 4; ++o) {
-            s << store_all(outs[o], std::vector<std::string>(res.begin() + static_cast<std::ptrdiff_t>(k),
+            s << store_all(names, outs[o], std::vector<std::string>(res.begin() + static_cast<std::ptrdiff_t>(k),
                                                              res.begin() + static_cast<std::ptrdiff_t>(k + lens[o])));
             k += lens[o];
         }

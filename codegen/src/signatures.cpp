@@ -2,6 +2,7 @@
 #include "signatures.hpp"
 
 #include <cassert>
+#include <utility>
 
 namespace phynjo::codegen::detail {
 
@@ -121,5 +122,16 @@ std::string spelled(const Signature& s, bool defaults) {
 std::string declaration(const Signature& s) { return spelled(s, true) + ";\n"; }
 
 std::string definition(const Signature& s) { return spelled(s, false) + " {\n"; }
+
+Signature in_kernel(Signature s) {
+    for (Signature::Parameter& p : s.parameters) {
+        std::string& d = p.declaration;
+        for (const auto& [from, to] : {std::pair<std::string_view, std::string_view>{"std::span<const double> ", "const double* "},
+                                       {"std::span<double> ", "double* "},
+                                       {"std::size_t ", "size_t "}})
+            if (d.compare(0, from.size(), from) == 0) d = std::string(to) + d.substr(from.size());
+    }
+    return s;
+}
 
 } // namespace phynjo::codegen::detail

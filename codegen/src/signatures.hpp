@@ -31,5 +31,8 @@ std::string spelled(const Signature& s, bool defaults);
 std::string declaration(const Signature& s);
 /// The head of the definition: spelled(s, false) and " {\n".
 std::string definition(const Signature& s);
+/// `s` as a model kernel defines it: pointers for std::span (the C table passes arrays of the
+/// right sizes), size_t for std::size_t (no standard header).
+Signature in_kernel(Signature s);
 
 } // namespace phynjo::codegen::detail

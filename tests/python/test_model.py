@@ -242,11 +242,6 @@ def test_cache_hit_corruption_and_two_processes(phynjo, tmp_path):
     os.replace(a.kernel_path + ".bad", a.kernel_path)
     c = phynjo.compile_string(text, "pendulum.lag", cache_dir=cache)
     assert not c.cache_hit and c.accelerations([1.0], [0.0])[0] == pytest.approx(-G * math.sin(1.0))
-    # the precompiled header's copy of its header gone or a dangling link (a cache made by a
-    # phynjo whose tree has moved): the next kernel still builds
-    for header in cache.glob("pch/*/phynjo/runtime/system/generated_functions.hpp"):
-        header.unlink()
-        header.symlink_to(tmp_path / "gone" / "generated_functions.hpp")
     d = phynjo.compile_string(text + "\n# another text, another kernel\n", "pendulum.lag", cache_dir=cache)
     assert not d.cache_hit and d.energy([0.0], [1.0]) == pytest.approx(0.5 - G)
     # two processes, a model no cache holds, at once

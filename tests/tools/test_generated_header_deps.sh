@@ -1,7 +1,12 @@
 #!/usr/bin/env bash
 # What a generated header pulls in: the runtime's headers and the standard library, no Boost
 # (Boost.Units lives in core/unit_literal.hpp alone), no Eigen, no SUNDIALS headers — a model's
-# users compile against it without them, and g++ reads less per file.
+# users compile against it without them, and g++ reads less per file. And what a model kernel
+# pulls in (--emit=kernel): no C++ standard header at all — most of a small model's build
+# time went into reading them (docs/command-line.md, *Kernels*).
+# Bugs caught: a std:: name printed into a kernel (std::to_string in a message, std::span in a
+# signature, std::array in a core), a standard header included by kernel_support.hpp or the
+# headers under it (lanes.hpp, factor_core.hpp).
 #   usage: test_generated_header_deps.sh PATH/TO/phynjo-lagc CXX SOURCE_DIR
 set -u
 lagc=$1; cxx=$2; src=$3
@@ -22,4 +27,17 @@ for model in bouncing_ball four_bar pendulum_wall; do
     [ -z "$found" ] && ok "$name: no Boost, Eigen or SUNDIALS header" || bad "$name includes: $found"
   done
 done
+# every held model's kernel compiles without the C++ standard library's headers
+for model in "$src"/examples/models/*.lag "$src"/tests/codegen/models/*.lag "$src"/tests/rigid/models/*.lag; do
+  name=$(basename "$model" .lag)
+  "$lagc" "$model" --emit=kernel -o "$work/$name.kernel.cpp" 2>/dev/null || continue # a model meant to fail
+  for flags in "" "-march=native -DPHYNJO_LIBMVEC=1"; do
+    if ! "$cxx" -std=c++20 -fsyntax-only -nostdinc++ -w $flags -I"$src/runtime/include" "$work/$name.kernel.cpp" 2>"$work/err"; then
+      bad "$name kernel ($flags): needs a standard header: $(grep -m2 error "$work/err")"
+      continue 2
+    fi
+  done
+  kernels=$((${kernels:-0} + 1))
+done
+[ "${kernels:-0}" -ge 40 ] && ok "$kernels kernels compile with -nostdinc++" || bad "only ${kernels:-0} kernels checked"
 finish

@@ -377,7 +377,7 @@ void run_many(const LagrangianSystem& sys, std::span<const RunStart> starts, con
     for (std::size_t k = 0; lanes && k < starts.size(); ++k) {
         const LagrangianSystem& s = system_of(k);
         lanes = fast_path(s, settings) && s.rk4_step_values_lanes_each && s.parameters && s.parameters_type &&
-                *s.parameters_type == *system_of(0).parameters_type; // one model: one lane width
+                s.parameters_type == system_of(0).parameters_type; // one model: one lane width
     }
     if (!lanes) {
         for (std::size_t k = 0; k < starts.size(); ++k) {

@@ -150,7 +150,7 @@ LagrangianSystem make_system(const std::shared_ptr<const ModelKernel>& kernel, G
             return predicate(f(P, time, h, t1, q, v, a, E, g));
         };
         s.parameters = std::move(held);
-        s.parameters_type = static_cast<const std::type_info*>(t.parameters_type());
+        s.parameters_type = t.parameters_type();
     }
     s.initial_state = [kernel, k, get, f = t.initial_state](std::span<double> q, std::span<double> v) {
         k->check(f(get(), q.data(), v.data()));

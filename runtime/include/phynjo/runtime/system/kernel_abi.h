@@ -14,7 +14,7 @@
 #include <stddef.h>
 
 /* Raised when the table changes in a way an older loader cannot read. */
-#define PHYNJO_KERNEL_ABI_VERSION 3u
+#define PHYNJO_KERNEL_ABI_VERSION 4u
 #define PHYNJO_KERNEL_ENTRY "phynjo_kernel_v1"
 
 #ifdef __cplusplus
@@ -65,7 +65,7 @@ typedef struct phynjo_kernel {
     void (*parameters_delete)(void* P);
     void (*parameters_set)(void* P, size_t k, double value);
     double (*parameters_get)(const void* P, size_t k);
-    /* The C++ type of the parameters (a std::type_info*): runs of one kernel share lanes. */
+    /* An address naming the Parameters type (a byte of the kernel's): runs of one kernel share lanes. */
     const void* (*parameters_type)(void);
 
     phynjo_state_fn mass_matrix; /* q' unused unless mass_depends_on_velocities */

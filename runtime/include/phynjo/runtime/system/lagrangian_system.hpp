@@ -85,11 +85,12 @@ struct LagrangianSystem {
                        double* qdot, double* qddot, double* E, double* g)>
         rk4_step_values_lanes_each;
     /// The parameters the functions above read (the generated code's `Parameters`, opaque here;
-    /// owned when the system holds a copy) and their type, which names the model: runs whose
-    /// systems have the same type share the lanes of rk4_step_values_lanes_each. Null when the
-    /// model has no lane kernels.
+    /// owned when the system holds a copy) and an address naming their type, which names the
+    /// model (generated code's &typeid(Parameters), a model kernel's byte of its own): runs whose
+    /// systems have the same address share the lanes of rk4_step_values_lanes_each. Null when
+    /// the model has no lane kernels.
     std::shared_ptr<const void> parameters;
-    const std::type_info* parameters_type = nullptr;
+    const void* parameters_type = nullptr;
 
     // Constraints (docs/language.md, *Constraints*), file order; none when n_constraints = 0.
     std::size_t n_constraints = 0;

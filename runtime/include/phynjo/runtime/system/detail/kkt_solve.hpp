@@ -25,32 +25,10 @@ namespace detail {
 /// The constraints involved when G M⁻¹ Gᵀ is singular: the first row of G (C×N) that is a
 /// combination of earlier rows at this state, and those rows (error path only: allocates).
 inline std::vector<std::size_t> dependent_constraints(const double* G, std::size_t C, std::size_t N) {
-    std::vector<double> R(G, G + C * N), T(C * C, 0.0); // reduced rows; R = T·G
-    for (std::size_t k = 0; k < C; ++k) T[k * C + k] = 1;
-    double scale = 0;
-    for (double v : R) scale = std::max(scale, std::fabs(v));
-    std::vector<std::size_t> pivot_col(C, N);
-    for (std::size_t k = 0; k < C; ++k) {
-        for (std::size_t e = 0; e < k; ++e) { // eliminate with the earlier independent rows
-            const std::size_t c = pivot_col[e];
-            if (c == N) continue;
-            const double f = R[k * N + c] / R[e * N + c];
-            for (std::size_t j = 0; j < N; ++j) R[k * N + j] -= f * R[e * N + j];
-            for (std::size_t j = 0; j < C; ++j) T[k * C + j] -= f * T[e * C + j];
-        }
-        std::size_t best = N;
-        for (std::size_t j = 0; j < N; ++j)
-            if (std::fabs(R[k * N + j]) > 1e-9 * scale && (best == N || std::fabs(R[k * N + j]) > std::fabs(R[k * N + best])))
-                best = j;
-        if (best == N) { // row k depends on the earlier rows with the coefficients in T
-            std::vector<std::size_t> out{k};
-            for (std::size_t j = 0; j < k; ++j)
-                if (std::fabs(T[k * C + j]) > 1e-9) out.push_back(j);
-            return out;
-        }
-        pivot_col[k] = best;
-    }
-    return {}; // G has full rank: M is what makes G M⁻¹ Gᵀ singular
+    std::vector<double> R(C * N), T(C * C);
+    std::vector<std::size_t> pivot_col(C), rows(C);
+    rows.resize(dependent_rows(G, C, N, R.data(), T.data(), pivot_col.data(), rows.data()));
+    return rows;
 }
 
 /// Solves A x = b in place (A p×p row-major, overwritten; b becomes x) by LU with partial
@@ -119,86 +97,41 @@ template <std::size_t N, std::size_t C>
 class KktFactor {
 public:
     KktFactor(const double* M, const double* G, const std::array<std::string_view, C>& names, std::string_view where,
-              double t)
-        : m_(M), G_(G), s_(schur(names, where, t)) {}
+              double t) {
+        const detail::KktFactored f = core_.factor(M, G);
+        if (f.ok()) return;
+        if (f.part == detail::KktFactored::schur && f.status == detail::Factored::singular)
+            detail::throw_singular_constraints(G, C, N, names, where, t);
+        detail::throw_factor_failure(f.status, f.pivot, f.pivot_value);
+    }
 
     /// x (N) and λ (C) for the right-hand side b (N), g (C).
-    void solve(const double* b, const double* g, double* x, double* lambda) const {
-        double u[N], r[C];
-        for (std::size_t i = 0; i < N; ++i) u[i] = b[i];
-        m_.solve(u);
-        for (std::size_t a = 0; a < C; ++a) {
-            double ga = g[a];
-            for (std::size_t i = 0; i < N; ++i) ga -= G_[a * N + i] * u[i];
-            r[a] = ga;
-        }
-        s_.solve(r);
-        for (std::size_t i = 0; i < N; ++i) {
-            double v = u[i];
-            for (std::size_t k = 0; k < C; ++k) v += Y_[k][i] * r[k];
-            x[i] = v;
-        }
-        for (std::size_t k = 0; k < C; ++k) lambda[k] = r[k];
-    }
+    void solve(const double* b, const double* g, double* x, double* lambda) const { core_.solve(b, g, x, lambda); }
 
     /// The same for `cols` right-hand sides at once: B (N×cols) and Gc (C×cols) row-major
     /// give X (N×cols) row-major.
     void solve_columns(std::size_t cols, const double* B, const double* Gc, double* X) const {
-        for (std::size_t j = 0; j < cols; ++j) {
-            double b[N], g[C], x[N], l[C];
-            for (std::size_t i = 0; i < N; ++i) b[i] = B[i * cols + j];
-            for (std::size_t k = 0; k < C; ++k) g[k] = Gc[k * cols + j];
-            solve(b, g, x, l);
-            for (std::size_t i = 0; i < N; ++i) X[i * cols + j] = x[i];
-        }
+        core_.solve_columns(cols, B, Gc, X);
     }
 
 private:
-    SymmetricFactor<C> schur(const std::array<std::string_view, C>& names, std::string_view where, double t) {
-        for (std::size_t k = 0; k < C; ++k) {
-            for (std::size_t i = 0; i < N; ++i) Y_[k][i] = G_[k * N + i];
-            m_.solve(Y_[k]);
-        }
-        double S[C * C];
-        for (std::size_t a = 0; a < C; ++a)
-            for (std::size_t b = 0; b <= a; ++b) {
-                double s = 0;
-                for (std::size_t i = 0; i < N; ++i) s += G_[a * N + i] * Y_[b][i];
-                S[a * C + b] = s;
-            }
-        try {
-            return SymmetricFactor<C>(S);
-        } catch (const SingularMassMatrix&) {
-            detail::throw_singular_constraints(G_, C, N, names, where, t);
-        }
-    }
-
-    SymmetricFactor<N> m_;
-    const double* G_;
-    double Y_[C][N];
-    SymmetricFactor<C> s_;
+    detail::KktCore<N, C> core_;
 };
 
 /// Without constraints: M x = b.
 template <std::size_t N>
 class KktFactor<N, 0> {
 public:
-    explicit KktFactor(const double* M) : m_(M) {}
-    void solve(const double* b, const double*, double* x, double*) const {
-        for (std::size_t i = 0; i < N; ++i) x[i] = b[i];
-        m_.solve(x);
+    explicit KktFactor(const double* M) {
+        if (const detail::KktFactored f = core_.factor(M); !f.ok()) detail::throw_factor_failure(f.status, f.pivot, f.pivot_value);
     }
-    void solve_columns(std::size_t cols, const double* B, const double*, double* X) const {
-        for (std::size_t j = 0; j < cols; ++j) {
-            double x[N];
-            for (std::size_t i = 0; i < N; ++i) x[i] = B[i * cols + j];
-            m_.solve(x);
-            for (std::size_t i = 0; i < N; ++i) X[i * cols + j] = x[i];
-        }
+    void solve(const double* b, const double* g, double* x, double* lambda) const { core_.solve(b, g, x, lambda); }
+    void solve_columns(std::size_t cols, const double* B, const double* Gc, double* X) const {
+        core_.solve_columns(cols, B, Gc, X);
     }
 
 private:
-    SymmetricFactor<N> m_;
+    detail::KktCore<N, 0> core_;
 };
 
 /// q'' and λ of M q'' = f + Gᵀλ, G q'' = γ (KktFactor), checked finite: NonFiniteResult
