@@ -17,8 +17,10 @@
 #include <filesystem>
 #include <fstream>
 #include <mutex>
+#include <optional>
 #include <random>
 #include <sstream>
+#include <thread>
 
 #include "derived_model.hpp"
 
@@ -161,14 +163,15 @@ std::string build_identity() {
            std::to_string(st.st_mtim.tv_nsec);
 }
 
-/// The flags of every kernel: those of phynjo_add_model's model code
+/// The flags of every kernel (at -O0 for the quick tier, JitOptions::quick): those of
+/// phynjo_add_model's model code
 /// (cmake/PhynjoAddModel.cmake) — every operation rounded once (-ffp-contract=off), so a kernel
 /// gives the bits of the CMake-built model — and its own functions hidden (only the table's
 /// entry point is exported: nothing of one kernel can stand in for another's). A build
 /// configured with PHYNJO_NATIVE compiles both for the machine (-march=native: four runs a
 /// register in a sweep's lanes where the CPU has AVX2, against two).
-std::vector<std::string> kernel_flags() {
-    std::vector<std::string> f{"-std=c++20", "-O2", "-fPIC", "-fvisibility=hidden", "-fno-tree-slp-vectorize", "-ffp-contract=off", "-w"};
+std::vector<std::string> kernel_flags(bool quick = false) {
+    std::vector<std::string> f{"-std=c++20", quick ? "-O0" : "-O2", "-fPIC", "-fvisibility=hidden", "-fno-tree-slp-vectorize", "-ffp-contract=off", "-w"};
     if (PHYNJO_JIT_NATIVE) f.push_back("-march=native");
     if (PHYNJO_JIT_LIBMVEC) f.push_back("-DPHYNJO_LIBMVEC=1");
     return f;
@@ -223,6 +226,64 @@ bool usable(const fs::path& so, const fs::path& sum) {
     }
 }
 
+/// A kernel in the cache and its checksum.
+struct Tier {
+    fs::path so, sum;
+};
+
+/// `built` (a kernel just written) into place as `tier`: the checksum first, then the kernel,
+/// so a reader finding the kernel finds its checksum.
+void install(const fs::path& built, const Tier& tier) {
+    std::error_code ec;
+    const fs::path sum_tmp = temporary_beside(tier.sum);
+    if (!write_text(sum_tmp, checksum(built))) throw std::runtime_error("cannot write " + sum_tmp.string());
+    fs::rename(sum_tmp, tier.sum, ec);
+    fs::rename(built, tier.so, ec);
+    if (ec) throw std::runtime_error("cannot write " + tier.so.string() + ": " + ec.message());
+}
+
+/// The optimized kernel a background build left (KEY.so.new: written whole, then renamed)
+/// checked and installed; false when there is none or it does not load.
+bool adopt(const Tier& full) {
+    const fs::path fresh = fs::path(full.so).concat(".new");
+    std::error_code ec;
+    if (!fs::exists(fresh, ec)) return false;
+    const fs::path mine = temporary_beside(full.so);
+    fs::rename(fresh, mine, ec); // one process adopts it; the others find it installed
+    if (ec) return usable(full.so, full.sum);
+    try {
+        (void)runtime::ModelKernel::load(mine.string());
+        install(mine, full);
+    } catch (const std::exception&) {
+        fs::remove(mine, ec);
+        return false;
+    }
+    return usable(full.so, full.sum);
+}
+
+/// Starts `command` (building KEY.so at -O2 into `target`, a temporary name) in the background, the
+/// result renamed to KEY.so.new for adopt(); KEY.building says it runs (one build at a time
+/// per cache and key, a stale one retried after ten minutes), KEY.O2-failed that it failed
+/// (never retried: the log is beside it). The process may exit meanwhile: the next compile
+/// of the model adopts the kernel.
+void optimize_in_background(const Tier& full, const std::string& command, const fs::path& target, const fs::path& log) {
+    const fs::path building = fs::path(full.so).replace_extension(".building"),
+                   failed = fs::path(full.so).replace_extension(".O2-failed");
+    std::error_code ec;
+    if (fs::exists(failed, ec)) return;
+    if (fs::exists(building, ec)) {
+        const auto age = fs::file_time_type::clock::now() - fs::last_write_time(building, ec);
+        if (!ec && age < std::chrono::minutes(10)) return;
+    }
+    if (!write_text(building, std::to_string(::getpid()))) return;
+    const std::string built = shell_quoted(target.string());
+    const std::string script = "(" + command + " >" + shell_quoted(log.string()) + " 2>&1 && mv -f " + built + " " +
+                               shell_quoted(fs::path(full.so).concat(".new").string()) + " || { rm -f " + built +
+                               "; touch " + shell_quoted(failed.string()) + "; }; rm -f " + shell_quoted(building.string()) +
+                               ") </dev/null >/dev/null 2>&1 &";
+    if (std::system(script.c_str()) != 0) fs::remove(building, ec);
+}
+
 } // namespace
 
 std::string cache_directory(const JitOptions& o) {
@@ -260,11 +321,33 @@ CompiledModel compile_model(std::string_view text, const std::string& source_nam
         h.add(read_text(include / "phynjo/runtime" / header));
     CompiledModel out;
     out.key = h.hex();
-    const fs::path so = cache / "kernels" / (out.key + ".so"), sum = cache / "kernels" / (out.key + ".sum");
-    out.kernel_path = so.string();
-    if (usable(so, sum)) {
+    const fs::path dir = cache / "kernels";
+    const Tier full{dir / (out.key + ".so"), dir / (out.key + ".sum")},
+        quick{dir / (out.key + ".quick.so"), dir / (out.key + ".quick.sum")};
+    out.kernel_path = out.optimized_path = full.so.string();
+    if (usable(full.so, full.sum) || adopt(full)) {
         out.cache_hit = true;
-        if (o.verbose) std::fprintf(stderr, "phynjo: %s: the kernel is in the cache (%s)\n", source_name.c_str(), so.c_str());
+        if (o.verbose) std::fprintf(stderr, "phynjo: %s: the kernel is in the cache (%s)\n", source_name.c_str(), full.so.c_str());
+        return out;
+    }
+    const fs::path cpp = dir / (out.key + ".cpp");
+    auto command = [&](const fs::path& target, bool at_o0) {
+        std::string cmd = shell_quoted(compiler);
+        for (const std::string& f : kernel_flags(at_o0)) cmd += " " + f;
+        if (!linker.empty()) cmd += " " + linker;
+        cmd += " -I" + shell_quoted(include.string()) + " -shared -o " + shell_quoted(target.string()) + " " + shell_quoted(cpp.string());
+        if (PHYNJO_JIT_LIBMVEC) cmd += " -lmvec";
+        return cmd;
+    };
+    auto optimize = [&] {
+        const fs::path target = temporary_beside(full.so);
+        optimize_in_background(full, command(target, false), target, dir / (out.key + ".O2.log"));
+    };
+    if (o.quick && usable(quick.so, quick.sum)) {
+        out.cache_hit = out.quick = true;
+        out.kernel_path = quick.so.string();
+        if (fs::exists(cpp)) optimize();
+        if (o.verbose) std::fprintf(stderr, "phynjo: %s: the quick kernel is in the cache (%s)\n", source_name.c_str(), quick.so.c_str());
         return out;
     }
 
@@ -272,18 +355,15 @@ CompiledModel compile_model(std::string_view text, const std::string& source_nam
     const std::string kernel = detail::with_derived_model(text, source_name, [](const auto& model, const auto& eom) {
         return codegen::emit_kernel(model, codegen::optimize(model, eom), {}, PHYNJO_VERSION);
     });
-    const fs::path cpp = cache / "kernels" / (out.key + ".cpp"), log = cache / "kernels" / (out.key + ".log");
+    const fs::path log = dir / (out.key + ".log");
     const fs::path cpp_tmp = temporary_beside(cpp);
     if (!write_text(cpp_tmp, kernel)) throw std::runtime_error("cannot write " + cpp_tmp.string());
     std::error_code ec;
     fs::rename(cpp_tmp, cpp, ec);
 
-    const fs::path so_tmp = temporary_beside(so);
-    std::string cmd = shell_quoted(compiler);
-    for (const std::string& f : kernel_flags()) cmd += " " + f;
-    if (!linker.empty()) cmd += " " + linker;
-    cmd += " -I" + shell_quoted(include.string()) + " -shared -o " + shell_quoted(so_tmp.string()) + " " + shell_quoted(cpp.string());
-    if (PHYNJO_JIT_LIBMVEC) cmd += " -lmvec";
+    const Tier& tier = o.quick ? quick : full;
+    const fs::path so_tmp = temporary_beside(tier.so);
+    const std::string cmd = command(so_tmp, o.quick);
     const auto t0 = std::chrono::steady_clock::now();
     const int rc = run(cmd, log);
     out.compile_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -294,16 +374,28 @@ CompiledModel compile_model(std::string_view text, const std::string& source_nam
         throw BuildError("the C++ compiler failed on the kernel of " + source_name + " (" + cpp.string() + "):\n" + cmd + "\n" +
                          output);
     }
-    // the checksum first, then the kernel: a reader finding the kernel finds its checksum
-    const fs::path sum_tmp = temporary_beside(sum);
-    if (!write_text(sum_tmp, checksum(so_tmp))) throw std::runtime_error("cannot write " + sum_tmp.string());
-    fs::rename(sum_tmp, sum, ec);
-    fs::rename(so_tmp, so, ec);
-    if (ec) throw std::runtime_error("cannot write " + so.string() + ": " + ec.message());
+    install(so_tmp, tier);
+    out.kernel_path = tier.so.string();
+    out.quick = o.quick;
+    if (o.quick) optimize();
     if (o.verbose)
-        std::fprintf(stderr, "phynjo: %s: compiled its kernel in %.2f s (%s, with the headers in %s)\n", source_name.c_str(),
-                     out.compile_seconds, so.c_str(), include.c_str());
+        std::fprintf(stderr, "phynjo: %s: compiled its %skernel in %.2f s (%s, with the headers in %s)\n", source_name.c_str(),
+                     o.quick ? "quick " : "", out.compile_seconds, tier.so.c_str(), include.c_str());
     return out;
+}
+
+std::optional<std::string> optimized_kernel(const CompiledModel& c, double wait_seconds) {
+    const fs::path so = c.optimized_path;
+    if (so.empty()) return std::nullopt;
+    const Tier full{so, fs::path(so).replace_extension(".sum")};
+    const fs::path building = fs::path(so).replace_extension(".building");
+    const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(wait_seconds);
+    for (;;) {
+        if (usable(full.so, full.sum) || adopt(full)) return full.so.string();
+        std::error_code ec;
+        if (!fs::exists(building, ec) || std::chrono::steady_clock::now() >= until) return std::nullopt;
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
 }
 
 CompiledModel compile_model_file(const std::string& path, const JitOptions& o) {

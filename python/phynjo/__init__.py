@@ -42,12 +42,22 @@ EventRecord.__doc__ = "An event that fired: when (s), which, and the state just 
 Integrator = collections.namedtuple("Integrator", "name order symplectic adaptive sweeps help")
 
 
+# Long jobs (sweeps, command-line runs) wait this long (s) for a quick model's optimized kernel.
+_SWEEP_WAIT = 300.0
+
+
 def _cache_dir(cache_dir):
     return "" if cache_dir is None else os.fspath(cache_dir)
 
 
-def compile(path, cache_dir=None, verbose=False):
+def compile(path, cache_dir=None, verbose=False, quick=True):
     """The model in the file `path` (.lag), compiled into a kernel unless the cache holds it.
+
+    With `quick` (the default), a model whose optimized kernel is not in the cache gets a
+    quick one first (built at -O0, in about two thirds of the compiler time; its code runs a
+    few times slower) while the optimized kernel builds in the background. The two give the
+    same bits; the model switches to the optimized kernel as soon as it is built, and sweep()
+    and run() wait for it. quick=False builds the optimized kernel at once.
 
     Raises ModelError (the model's diagnostics, with file, line and column), BuildError (no
     C++ compiler, or it failed), OSError (the file cannot be read)."""
@@ -56,14 +66,14 @@ def compile(path, cache_dir=None, verbose=False):
         raise FileNotFoundError(f"no model file '{path}'")
     with open(path, encoding="utf-8") as f:
         text = f.read()
-    return Model(_phynjo.compile_string(text, path, _cache_dir(cache_dir), bool(verbose)), text, path)
+    return Model(_phynjo.compile_string(text, path, _cache_dir(cache_dir), bool(verbose), bool(quick)), text, path)
 
 
-def compile_string(text, name="<string>", cache_dir=None, verbose=False):
-    """The model in `text` (the .lag language), its diagnostics naming `name`."""
+def compile_string(text, name="<string>", cache_dir=None, verbose=False, quick=True):
+    """The model in `text` (the .lag language), its diagnostics naming `name` (see compile)."""
     if not isinstance(text, str):
         raise TypeError("compile_string takes the model's text as a str")
-    return Model(_phynjo.compile_string(text, name, _cache_dir(cache_dir), bool(verbose)), text, name)
+    return Model(_phynjo.compile_string(text, name, _cache_dir(cache_dir), bool(verbose), bool(quick)), text, name)
 
 
 def integrators():
@@ -111,10 +121,24 @@ class Model:
         self.shapes = tuple(name for name, _ in kernel.shapes)
 
     # --- what the kernel is --------------------------------------------------------------
+    def _kernel(self, wait=0.0):
+        """The kernel to call: the optimized one as soon as its background build is done (the
+        quick kernel's bits, faster), waiting for it up to `wait` s."""
+        if self._k.quick:
+            k = self._k.optimized(float(wait))
+            if k is not None:
+                self._k = k
+        return self._k
+
+    @property
+    def quick(self):
+        """True while the model runs on its quick kernel (compile's `quick`)."""
+        return self._kernel().quick
+
     @property
     def kernel_path(self):
-        """The shared object in the cache."""
-        return self._k.path
+        """The shared object in the cache (the quick kernel's until the optimized one is built)."""
+        return self._kernel().path
 
     @property
     def cache_hit(self):
@@ -147,7 +171,7 @@ class Model:
     def _eval(self, fn, q, qd, t, out, params):
         q = _as_array(q, "q")
         qd = np.zeros_like(q) if qd is None else _as_array(qd, "qd")
-        return self._k.evaluate(fn, q, qd, float(t), self._params(params), out)
+        return self._kernel().evaluate(fn, q, qd, float(t), self._params(params), out)
 
     def accelerations(self, q, qd, t=0.0, out=None, **params):
         """q'' (..., dof): of M q'' = f, or with the constraints' multipliers eliminated."""
@@ -188,11 +212,11 @@ class Model:
     def parameter(self, name, **params):
         """The value of a parameter or input (a derived one from the others given)."""
         self._params({name: 0.0})
-        return self._k.parameter(self._params(params), name)
+        return self._kernel().parameter(self._params(params), name)
 
     def initial_state(self, **params):
         """(q, q') of the file's `initial` line (0 where it says nothing)."""
-        return self._k.initial_state(self._params(params))
+        return self._kernel().initial_state(self._params(params))
 
     def _state(self, at, what):
         """(q, q') from a dict of coordinate names and NAME' velocities."""
@@ -276,7 +300,7 @@ class Model:
             table.append((name, times.tolist(), values.tolist()))
         if control is not None and not callable(control):
             raise TypeError("control must be callable: control(t, q, qd) -> {input: value}")
-        d = self._k.simulate(float(t_end), float(dt), str(integrator), p, q0, v0, int(every), rtol, atol,
+        d = self._kernel().simulate(float(t_end), float(dt), str(integrator), p, q0, v0, int(every), rtol, atol,
                              table, control, int(control_every))
         options = dict(t_end=float(t_end), dt=float(dt), integrator=str(integrator), params=p,
                        initial=dict(initial or {}), rtol=rtol, atol=atol, inputs=table)
@@ -300,7 +324,7 @@ class Model:
         archive = os.fspath(archive)
         args = self._run_options(t, dt, integrator, params, initial, rtol, atol)
         args += ["--every", str(int(every)), "--archive", archive, "--at", repr(float(t)), "--output", "/dev/stdout"]
-        status, out, err = _captured(lambda: self._k.run("phynjo-run " + self.source, args))
+        status, out, err = _captured(lambda: self._kernel(_SWEEP_WAIT).run("phynjo-run " + self.source, args))
         if status != 0:
             raise RunError(status, err.strip() or f"at: the run exited with status {status}")
         row = np.array([float(v) for v in out.strip().splitlines()[-1].split(",")])
@@ -318,7 +342,7 @@ class Model:
             args += ["--events", events_path]
         if archive_every is not None:
             args += ["--archive-every", str(archive_every)]
-        status, out, err = _captured(lambda: self._k.run("phynjo-run " + self.source, args))
+        status, out, err = _captured(lambda: self._kernel(_SWEEP_WAIT).run("phynjo-run " + self.source, args))
         failed = re.search(r"simulation stopped at t = \S+: (.*)", err)
         if status != 0 and not (status == 1 and failed and os.path.exists(rows_path)):
             raise RunError(status, err.strip() or f"the run exited with status {status}")
@@ -352,7 +376,7 @@ class Model:
         status and what it printed on standard error) when it does not exit 0; warnings it
         prints on success go to sys.stderr."""
         words = [os.fspath(a) if isinstance(a, os.PathLike) else str(a) for a in args]
-        status, out, err = _captured(lambda: self._k.run("phynjo-run " + self.source, words))
+        status, out, err = _captured(lambda: self._kernel(_SWEEP_WAIT).run("phynjo-run " + self.source, words))
         if status != 0:
             raise RunError(status, err.strip() or f"the run exited with status {status}")
         if err:

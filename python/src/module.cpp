@@ -45,10 +45,11 @@ struct Kernel {
 
 Kernel load(const jit::CompiledModel& c) { return Kernel{ModelKernel::load(c.kernel_path), c}; }
 
-jit::JitOptions options_of(const std::string& cache_dir, bool verbose) {
+jit::JitOptions options_of(const std::string& cache_dir, bool verbose, bool quick) {
     jit::JitOptions o;
     o.cache_dir = cache_dir;
     o.verbose = verbose;
+    o.quick = quick;
     return o;
 }
 
@@ -425,6 +426,21 @@ PYBIND11_MODULE(_phynjo, m) {
         .def_property_readonly("key", [](const Kernel& k) { return k.compiled.key; })
         .def_property_readonly("cache_hit", [](const Kernel& k) { return k.compiled.cache_hit; })
         .def_property_readonly("compile_seconds", [](const Kernel& k) { return k.compiled.compile_seconds; })
+        .def_property_readonly("quick", [](const Kernel& k) { return k.compiled.quick; })
+        .def("optimized",
+             [](const Kernel& k, double wait) -> std::optional<Kernel> {
+                 // the optimized kernel of a quick one, once built (waiting up to `wait` s)
+                 std::optional<std::string> path;
+                 {
+                     py::gil_scoped_release release;
+                     path = jit::optimized_kernel(k.compiled, wait);
+                 }
+                 if (!path) return std::nullopt;
+                 jit::CompiledModel c = k.compiled;
+                 c.kernel_path = *path;
+                 c.quick = false;
+                 return load(c);
+             })
         .def_property_readonly("dof", [](const Kernel& k) { return k.table().dof; })
         .def_property_readonly("coordinates", [](const Kernel& k) {
             const auto& t = k.table();
@@ -482,22 +498,23 @@ PYBIND11_MODULE(_phynjo, m) {
         .def("html", &html_of_rows)
         .def("run", &run);
 
-    m.def("compile_file", [](const std::string& path, const std::string& cache_dir, bool verbose) {
+    m.def("compile_file", [](const std::string& path, const std::string& cache_dir, bool verbose, bool quick) {
         jit::CompiledModel c;
         {
             py::gil_scoped_release release;
-            c = jit::compile_model_file(path, options_of(cache_dir, verbose));
+            c = jit::compile_model_file(path, options_of(cache_dir, verbose, quick));
         }
         return load(c);
     });
-    m.def("compile_string", [](const std::string& text, const std::string& name, const std::string& cache_dir, bool verbose) {
-        jit::CompiledModel c;
-        {
-            py::gil_scoped_release release;
-            c = jit::compile_model(text, name, options_of(cache_dir, verbose));
-        }
-        return load(c);
-    });
+    m.def("compile_string",
+          [](const std::string& text, const std::string& name, const std::string& cache_dir, bool verbose, bool quick) {
+              jit::CompiledModel c;
+              {
+                  py::gil_scoped_release release;
+                  c = jit::compile_model(text, name, options_of(cache_dir, verbose, quick));
+              }
+              return load(c);
+          });
     m.def("document", [](const std::string& text, const std::string& name, const std::string& kind) {
         if (kind != "latex" && kind != "equations") throw py::value_error("document: latex or equations");
         return jit::model_document(text, name, kind == "latex" ? jit::ModelDocument::latex : jit::ModelDocument::equations);

@@ -235,6 +235,38 @@ TEST_CASE("kernels: every function bit for bit the CMake-built model's", "[codeg
     }
 }
 
+// Bugs caught: a quick kernel (-O0) whose arithmetic differs from the optimized one's (a
+// constant folded by the optimizer with other rounding than the library's call, sin and cos
+// merged into a sincos with other bits), the optimized kernel never built in the background,
+// or built and not adopted.
+TEST_CASE("kernels: the quick kernel gives the optimized kernel's bits, on every held model", "[codegen][kernel]") {
+    jit::JitOptions quick;
+    quick.cache_dir = cache() + "/tiers";
+    quick.quick = true;
+    int models = 0;
+    for (const char* folder : {"/examples/models", "/tests/codegen/models", "/tests/rigid/models"})
+        for (const auto& entry : std::filesystem::directory_iterator(std::string(PHYNJO_SOURCE_DIR) + folder)) {
+            if (entry.path().extension() != ".lag") continue;
+            INFO(entry.path().filename().string());
+            jit::CompiledModel c;
+            try {
+                c = jit::compile_model_file(entry.path().string(), quick);
+            } catch (const jit::ModelError&) {
+                continue; // a model meant to fail
+            }
+            REQUIRE(c.quick);
+            const auto optimized = jit::optimized_kernel(c, 300);
+            REQUIRE(optimized);
+            CHECK(*optimized == c.optimized_path);
+            compare(kernel_system(KernelParameters(ModelKernel::load(c.kernel_path))),
+                    kernel_system(KernelParameters(ModelKernel::load(*optimized))), static_cast<std::uint32_t>(++models));
+            // the next compile of the model returns the optimized kernel
+            const jit::CompiledModel again = jit::compile_model_file(entry.path().string(), quick);
+            CHECK((again.cache_hit && !again.quick && again.kernel_path == *optimized));
+        }
+    CHECK(models >= 40);
+}
+
 // Bugs caught: a kernel's failure lost at the C boundary (a NaN, or a generic error where the
 // typed one is documented), the kernel unloaded while a system still calls it, parameters by
 // an unknown name accepted.

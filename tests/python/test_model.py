@@ -502,3 +502,33 @@ def test_an_archived_run_killed_resumes_to_the_same_bits(phynjo, tmp_path):
     assert err.value.status == 1
     with pytest.raises(ValueError, match="control"):
         ball.simulate(archive=tmp_path / "c.par", control=lambda t, q, qd: {}, **options)
+
+
+def test_quick_kernel_then_the_optimized_one(phynjo, tmp_path):
+    """Catches: a quick kernel whose numbers are not the optimized kernel's (another
+    arithmetic at -O0), a model that never moves to the optimized kernel once it is built, a
+    sweep run on the quick kernel while the optimized one builds, the next compile rebuilding."""
+    text = open(model_path("double_pendulum.lag")).read()
+    cache = tmp_path / "cache"
+    m = phynjo.compile_string(text, "double_pendulum.lag", cache_dir=cache)
+    assert m._k.quick and not m.cache_hit and m.compile_seconds > 0  # built now: the quick kernel
+    assert m._k.path.endswith(".quick.so")
+    full = phynjo.compile_string(text, "double_pendulum.lag", cache_dir=tmp_path / "other", quick=False)
+    assert not full.quick and full.kernel_path.endswith(".so") and not full.kernel_path.endswith(".quick.so")
+    rng = np.random.default_rng(5)
+    q, qd = rng.uniform(-3, 3, (200, 2)), rng.uniform(-3, 3, (200, 2))
+    a = m.accelerations(q, qd)
+    b = full.accelerations(q, qd)
+    assert a.tobytes() == b.tobytes()
+    r1 = m.simulate(t_end=3, dt=0.01, integrator="dopri", rtol=1e-9, atol=1e-9)
+    r2 = full.simulate(t_end=3, dt=0.01, integrator="dopri", rtol=1e-9, atol=1e-9)
+    assert r1.q.tobytes() == r2.q.tobytes() and r1.energy.tobytes() == r2.energy.tobytes()
+    # a sweep waits for the optimized kernel, then runs on it: the same rows
+    grid = {"th1": (-1, 1, 4), "th2": (-1, 1, 4)}
+    s1 = m.sweep(grid=grid, t_end=1, dt=1e-2, threads=1)
+    assert not m.quick and m.kernel_path == m._k.path and not m.kernel_path.endswith(".quick.so")
+    s2 = full.sweep(grid=grid, t_end=1, dt=1e-2, threads=1)
+    assert s1.tobytes() == s2.tobytes()
+    # the next compile finds the optimized kernel
+    again = phynjo.compile_string(text, "double_pendulum.lag", cache_dir=cache)
+    assert again.cache_hit and not again._k.quick and again.kernel_path == m.kernel_path

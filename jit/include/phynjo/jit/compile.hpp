@@ -5,6 +5,7 @@
 /// object — kept in a cache keyed by a hash of what decides its bits (the model text,
 /// phynjo's version and the runtime headers the kernel includes, the compiler and its flags).
 /// A second compile of the same model is a cache hit: no parse, no compiler.
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -20,6 +21,13 @@ struct JitOptions {
     std::string compiler;
     /// Say on standard error what is compiled (or found in the cache) and how long it took.
     bool verbose = false;
+    /// When the optimized kernel is not in the cache: build the quick one (-O0, about a third
+    /// less compiler time; its code runs a few times slower) and return it, and build the
+    /// optimized one in the background (optimized_kernel() finds it; the next compile of the
+    /// model returns it). Both give the same bits: -O levels do not change what
+    /// -ffp-contract=off arithmetic computes (tests/codegen/test_kernel_abi.cpp checks every
+    /// function on every held model).
+    bool quick = false;
 };
 
 /// The model has errors: what() is every diagnostic, `FILE:LINE:COL: error: …` with the line
@@ -42,6 +50,8 @@ struct CompiledModel {
     std::string key;         ///< the cache key, 32 hex digits
     bool cache_hit = false;
     double compile_seconds = 0; ///< the C++ compiler's wall time (0 on a hit)
+    bool quick = false;         ///< kernel_path is the quick kernel (JitOptions::quick)
+    std::string optimized_path; ///< where the optimized kernel is (or will be) in the cache
 };
 
 /// Compiles `text` (its diagnostics naming `source_name`) to a kernel, or finds it in the
@@ -52,6 +62,11 @@ struct CompiledModel {
 CompiledModel compile_model(std::string_view text, const std::string& source_name, const JitOptions& options = {});
 /// The same for a file; std::runtime_error when it cannot be read.
 CompiledModel compile_model_file(const std::string& path, const JitOptions& options = {});
+
+/// The optimized kernel of a quick one (c.quick) once its background build has finished —
+/// waiting for it up to `wait_seconds` while it runs — else nullopt (it failed, or is not
+/// done yet). For c not quick: c's own kernel.
+std::optional<std::string> optimized_kernel(const CompiledModel& c, double wait_seconds = 0);
 
 /// The cache folder `options` name (made if missing).
 std::string cache_directory(const JitOptions& options = {});
