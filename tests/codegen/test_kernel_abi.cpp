@@ -160,6 +160,25 @@ void compare(const LagrangianSystem& a, const LagrangianSystem& b, std::uint32_t
             both([&](const LagrangianSystem& s, std::vector<double>& o) { s.box_jacobians(t, q, o); }, 6 * n * a.n_boxes);
             both([&](const LagrangianSystem& s, std::vector<double>& o) { s.box_half_extents(o); }, 3 * a.n_boxes);
         }
+        if (a.rk4_step_values_lanes_each) { // a sweep's step: lane_width runs from this state and its neighbours
+            REQUIRE(a.lane_width == b.lane_width);
+            const std::size_t W = a.lane_width;
+            both([&](const LagrangianSystem& s, std::vector<double>& o) {
+                std::vector<const void*> P(W, s.parameters.get());
+                std::vector<double> tt(W), h(W, 0.01), t1(W), qq(n * W), vv(n * W), acc(n * W), E(W), g(ne * W + 1);
+                for (std::size_t l = 0; l < W; ++l) {
+                    tt[l] = t, t1[l] = t + 0.01;
+                    for (std::size_t i = 0; i < n; ++i) qq[i * W + l] = q[i] + 0.1 * l, vv[i * W + l] = v[i], acc[i * W + l] = v[i] - q[i];
+                }
+                const bool ok = s.rk4_step_values_lanes_each(P.data(), tt.data(), h.data(), t1.data(), qq.data(), vv.data(),
+                                                             acc.data(), E.data(), g.data());
+                o = qq;
+                o.insert(o.end(), vv.begin(), vv.end());
+                o.insert(o.end(), acc.begin(), acc.end());
+                o.insert(o.end(), E.begin(), E.end());
+                o.push_back(ok ? 1 : 0);
+            }, 0);
+        }
     }
     std::vector<double> qa(n), va(n), qb(n), vb(n);
     a.initial_state(qa, va);
