@@ -394,6 +394,9 @@ std::optional<std::string> optimized_kernel(const CompiledModel& c, double wait_
         if (usable(full.so, full.sum) || adopt(full)) return full.so.string();
         std::error_code ec;
         if (!fs::exists(building, ec) || std::chrono::steady_clock::now() >= until) return std::nullopt;
+        // a build left unfinished (its process killed): nothing to wait for
+        if (fs::file_time_type::clock::now() - fs::last_write_time(building, ec) > std::chrono::minutes(10) || ec)
+            return std::nullopt;
         std::this_thread::sleep_for(std::chrono::milliseconds(20));
     }
 }
