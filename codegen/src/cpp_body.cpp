@@ -4,7 +4,6 @@
 
 #include "phynjo/cas/node_map.hpp"
 
-#include <cassert>
 #include <map>
 #include <optional>
 #include <unordered_map>
@@ -227,20 +226,23 @@ std::string store_all(const Names& names, const std::string& target, const std::
 
 const char* Names::math() const noexcept { return kernel() ? kLanes : "std::"; }
 
-std::string Names::raise(std::string_view kind, const std::string& text, const std::string& value, const std::string& after) const {
+std::string Names::raise(Failure kind, const std::string& text, const std::string& value, const std::string& after) const {
+    struct Spelling {
+        const char* exception; ///< the source's
+        const char* status;    ///< the kernel's (kernel_abi.h)
+    };
+    static constexpr Spelling spellings[] = {{"phynjo::runtime::SingularMassMatrix", "PHYNJO_SINGULAR_MASS_MATRIX"},
+                                             {"phynjo::runtime::NonFiniteResult", "PHYNJO_NON_FINITE"},
+                                             {"std::invalid_argument", "PHYNJO_INVALID_ARGUMENT"},
+                                             {"std::out_of_range", "PHYNJO_OUT_OF_RANGE"}};
+    const Spelling& sp = spellings[static_cast<std::size_t>(kind)];
     if (!kernel()) {
-        std::string s = "throw " + std::string(kind) + "(" + text;
+        std::string s = "throw " + std::string(sp.exception) + "(" + text;
         if (!value.empty()) s += " + std::to_string(" + value + ")";
         if (!after.empty()) s += " + " + after;
         return s + ");";
     }
-    const char* status = kind == "phynjo::runtime::SingularMassMatrix" ? "PHYNJO_SINGULAR_MASS_MATRIX"
-                         : kind == "phynjo::runtime::NonFiniteResult"  ? "PHYNJO_NON_FINITE"
-                         : kind == "std::invalid_argument"             ? "PHYNJO_INVALID_ARGUMENT"
-                         : kind == "std::out_of_range"                 ? "PHYNJO_OUT_OF_RANGE"
-                                                                       : nullptr;
-    assert(status && "an exception kernels do not know");
-    std::string s = std::string("throw phynjo::kernel::Failure(") + status + ", " + text;
+    std::string s = std::string("throw phynjo::kernel::Failure(") + sp.status + ", " + text;
     if (!value.empty()) s += ", " + value;
     if (!after.empty()) s += ", " + after;
     return s + ");";

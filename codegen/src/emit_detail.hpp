@@ -31,6 +31,9 @@ inline std::string parameter_value(const Parameter& p) {
 /// returned as status codes). The arithmetic is printed the same in both: the same bits.
 enum class Flavor { source, kernel };
 
+/// What generated code throws (Names::raise).
+enum class Failure { singular_mass_matrix, non_finite, invalid_argument, out_of_range };
+
 class Names {
 public:
     explicit Names(const Model& m) {
@@ -88,11 +91,11 @@ public:
     [[nodiscard]] const char* size_type() const noexcept { return kernel() ? "size_t" : "std::size_t"; }
     /// `a.data()` of a std::span argument; the pointer itself in a kernel.
     [[nodiscard]] std::string data(const std::string& a) const { return kernel() ? a : a + ".data()"; }
-    /// `throw KIND(…);`: `text` (a C++ string literal, quotes included), then the value of the
-    /// C++ expression `value` as std::to_string prints it (none when empty), then `after` (a
-    /// literal). KIND is one of the runtime's exceptions or std::invalid_argument,
-    /// std::out_of_range; in a kernel a phynjo::kernel::Failure of its status.
-    [[nodiscard]] std::string raise(std::string_view kind, const std::string& text, const std::string& value = {},
+    /// `throw …;` of a failure of `kind`: `text` (a C++ string literal, quotes included), then
+    /// the value of the C++ expression `value` as std::to_string prints it (none when empty),
+    /// then `after` (a literal). In a source the runtime's exception or std::invalid_argument,
+    /// std::out_of_range; in a kernel a phynjo::kernel::Failure of the matching status.
+    [[nodiscard]] std::string raise(Failure kind, const std::string& text, const std::string& value = {},
                                     const std::string& after = {}) const;
 
 private:

@@ -240,7 +240,7 @@ void FunctionPrinter::cores() {
           << unused(uses_t, uses_p) << unread(b) << b;
         auto fi = [&](std::size_t i) { return res[upper.size() + i]; };
         const std::string singular =
-            names.raise("phynjo::runtime::SingularMassMatrix", "\"" + m.name + "::accelerations: the mass matrix is singular\"");
+            names.raise(Failure::singular_mass_matrix, "\"" + m.name + "::accelerations: the mass matrix is singular\"");
         if (n == 1) {
             s << "    const auto m00 = " << Mij(0, 0) << ";\n"
               << "    if (" << L << "any(m00 == 0)) " << singular << "\n"
@@ -271,7 +271,7 @@ void FunctionPrinter::cores() {
         }
         s << "    for (" << z() << " i = 0; i < " << n << "; ++i)\n"
           << "        if (" << L << "not_finite(qddot[i])) "
-          << names.raise("phynjo::runtime::NonFiniteResult", "\"" + m.name + "::accelerations: non-finite result at t = \"", L + "first(t)")
+          << names.raise(Failure::non_finite, "\"" + m.name + "::accelerations: non-finite result at t = \"", L + "first(t)")
           << "\n"
           << "}" << glue << "\n";
     }
@@ -422,7 +422,7 @@ void FunctionPrinter::apply_event() {
         s << "        return;\n    }\n";
     }
     s << "    default: break;\n    }\n    "
-      << names.raise("std::out_of_range", "\"" + m.name + "::apply_event: event \"", "k",
+      << names.raise(Failure::out_of_range, "\"" + m.name + "::apply_event: event \"", "k",
                      "\" (the model has " + std::to_string(ne) + ")\"")
       << "\n";
         s.close();
@@ -446,7 +446,7 @@ void FunctionPrinter::shapes() {
             const std::string& what = opt.box_axis_checks[k - exprs.size()].what;
             s << "    if (!(" << res[k] << " > 0) || " << (names.kernel() ? "!__builtin_isfinite(" : "!std::isfinite(") << res[k] << "))\n"
               << "        "
-              << names.raise("std::invalid_argument",
+              << names.raise(Failure::invalid_argument,
                              "\"" + m.name + "::" + fn + ": " + what + " has length zero at these parameters (|a|^2 = \"", res[k], "\")\"")
               << "\n";
         }

@@ -68,7 +68,7 @@ void emit_one(Definitions& s, const Model& m, const EquationsOfMotion& eom, cons
     if (diagonal) {
         std::vector<std::string> d;
         for (std::size_t i = 0; i < n; ++i) d.push_back(res[upper_index(i, i, n)]);
-        s << diagonal_mass(names, d, names.raise("phynjo::runtime::SingularMassMatrix", "\"" + where + ": the mass matrix is singular\""))
+        s << diagonal_mass(names, d, names.raise(Failure::singular_mass_matrix, "\"" + where + ": the mass matrix is singular\""))
           << "    double acc[" << n << "];\n";
         for (std::size_t i = 0; i < n; ++i) s << "    acc[" << i << "] = (" << res[off_f + i] << ")/d[" << i << "];\n";
         s << "    (void)acc; // read by the entries only when M depends on q\n";
@@ -106,7 +106,7 @@ void emit_one(Definitions& s, const Model& m, const EquationsOfMotion& eom, cons
           << n * cols << ");\n";
     s << "    for (" << z << " k = " << n * cols << "; k < " << 2 * n * cols << "; ++k)\n"
       << "        if (" << (names.kernel() ? "!__builtin_isfinite(" : "!std::isfinite(") << out << "[k])) "
-      << names.raise("phynjo::runtime::NonFiniteResult", "\"" + where + ": non-finite result at t = \"", "t") << "\n";
+      << names.raise(Failure::non_finite, "\"" + where + ": non-finite result at t = \"", "t") << "\n";
     s.close();
     s << "\n";
 }

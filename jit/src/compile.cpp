@@ -229,6 +229,10 @@ bool usable(const fs::path& so, const fs::path& sum) {
 /// A kernel in the cache and its checksum.
 struct Tier {
     fs::path so, sum;
+    /// KEY.so.new, KEY.building, KEY.O2-failed: the files of its background build.
+    [[nodiscard]] fs::path fresh() const { return fs::path(so).concat(".new"); }
+    [[nodiscard]] fs::path building() const { return fs::path(so).replace_extension(".building"); }
+    [[nodiscard]] fs::path failed() const { return fs::path(so).replace_extension(".O2-failed"); }
 };
 
 /// `built` (a kernel just written) into place as `tier`: the checksum first, then the kernel,
@@ -245,7 +249,7 @@ void install(const fs::path& built, const Tier& tier) {
 /// The optimized kernel a background build left (KEY.so.new: written whole, then renamed)
 /// checked and installed; false when there is none or it does not load.
 bool adopt(const Tier& full) {
-    const fs::path fresh = fs::path(full.so).concat(".new");
+    const fs::path fresh = full.fresh();
     std::error_code ec;
     if (!fs::exists(fresh, ec)) return false;
     const fs::path mine = temporary_beside(full.so);
@@ -254,11 +258,11 @@ bool adopt(const Tier& full) {
     try {
         (void)runtime::ModelKernel::load(mine.string());
         install(mine, full);
+        return true;
     } catch (const std::exception&) {
         fs::remove(mine, ec);
         return false;
     }
-    return usable(full.so, full.sum);
 }
 
 /// Starts `command` (building KEY.so at -O2 into `target`, a temporary name) in the background, the
@@ -267,8 +271,7 @@ bool adopt(const Tier& full) {
 /// (never retried: the log is beside it). The process may exit meanwhile: the next compile
 /// of the model adopts the kernel.
 void optimize_in_background(const Tier& full, const std::string& command, const fs::path& target, const fs::path& log) {
-    const fs::path building = fs::path(full.so).replace_extension(".building"),
-                   failed = fs::path(full.so).replace_extension(".O2-failed");
+    const fs::path building = full.building(), failed = full.failed();
     std::error_code ec;
     if (fs::exists(failed, ec)) return;
     if (fs::exists(building, ec)) {
@@ -278,7 +281,7 @@ void optimize_in_background(const Tier& full, const std::string& command, const 
     if (!write_text(building, std::to_string(::getpid()))) return;
     const std::string built = shell_quoted(target.string());
     const std::string script = "(" + command + " >" + shell_quoted(log.string()) + " 2>&1 && mv -f " + built + " " +
-                               shell_quoted(fs::path(full.so).concat(".new").string()) + " || { rm -f " + built +
+                               shell_quoted(full.fresh().string()) + " || { rm -f " + built +
                                "; touch " + shell_quoted(failed.string()) + "; }; rm -f " + shell_quoted(building.string()) +
                                ") </dev/null >/dev/null 2>&1 &";
     if (std::system(script.c_str()) != 0) fs::remove(building, ec);
@@ -388,7 +391,7 @@ std::optional<std::string> optimized_kernel(const CompiledModel& c, double wait_
     const fs::path so = c.optimized_path;
     if (so.empty()) return std::nullopt;
     const Tier full{so, fs::path(so).replace_extension(".sum")};
-    const fs::path building = fs::path(so).replace_extension(".building");
+    const fs::path building = full.building();
     const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(wait_seconds);
     for (;;) {
         if (usable(full.so, full.sum) || adopt(full)) return full.so.string();
