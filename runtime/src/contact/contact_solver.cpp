@@ -686,24 +686,25 @@ void Solver::scatter(World& w) {
     }
 }
 
-void Solver::store_cache(World& w) const {
+void Solver::store_cache(World& w) {
     if (slots_.empty()) return;
-    for (Index i : ids_)
-        for (const Slot& s : slots_) w.at(s.partner, i) = 0;
+    for (const Slot& s : slots_)
+        for (Index i : ids_) w.at(s.partner, i) = 0;
     // Rows are grouped by body a (pairs sorted by a, then the planes of each body in order),
-    // but a body's rows need not be contiguous: fill the first free slot of each.
+    // but a body's rows need not be contiguous: each fills its body's next slot, from the
+    // front (find_slots stops at the first empty one; a key is never 0).
+    slots_used_.assign(ids_.size(), 0);
     for (const Row& c : rows_) {
         if (c.jn <= 0 || c.a > ids_.size() || c.b > ids_.size()) continue; // model capsules: no cache
+        std::uint32_t& used = slots_used_[c.a];
+        if (used == slots_.size()) continue; // every slot taken: the contact is not cached
+        const Slot& s = slots_[used++];
         const Index a = ids_[c.a];
-        for (const Slot& s : slots_) {
-            if (w.at(s.partner, a) != 0) continue;
-            w.at(s.partner, a) = cache_key(c);
-            w.at(s.jn, a) = c.jn;
-            w.at(s.jtx, a) = c.jt1 * c.t1[0] + c.jt2 * c.t2[0];
-            w.at(s.jty, a) = c.jt1 * c.t1[1] + c.jt2 * c.t2[1];
-            w.at(s.jtz, a) = c.jt1 * c.t1[2] + c.jt2 * c.t2[2];
-            break;
-        }
+        w.at(s.partner, a) = cache_key(c);
+        w.at(s.jn, a) = c.jn;
+        w.at(s.jtx, a) = c.jt1 * c.t1[0] + c.jt2 * c.t2[0];
+        w.at(s.jty, a) = c.jt1 * c.t1[1] + c.jt2 * c.t2[1];
+        w.at(s.jtz, a) = c.jt1 * c.t1[2] + c.jt2 * c.t2[2];
     }
 }
 

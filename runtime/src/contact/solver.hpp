@@ -187,6 +187,9 @@ struct WideGroup {
     double last[16][L];
     double known[L];  // 1 where the lane's last set is known
     double in[4][L];  // 1 where point j is in the lane's last set
+    // The lanes' bodies' inverse masses and world inverse inertias (Body::im, ii), constant in a
+    // step: read here in order, not gathered from eight bodies at every pass.
+    double aim[L], bim[L], aii[6][L], bii[6][L];
 };
 
 inline double dot(const double* a, const double* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
@@ -363,6 +366,7 @@ public:
         delta_.reserve(3 * (n + 1));
         split_.reserve(n + 1);
         local_.reserve(layout_->components.size());
+        slots_used_.reserve(n);
         manager_.reserve(n, n * kReservedContactsPerBody);
         if (n_rigid_ < n) model_pairs_.reserve(n * kReservedContactsPerBody);
         if (shape_field_ >= 0) { // manifolds: up to 4 points a pair
@@ -513,7 +517,7 @@ private:
     void scatter(World& w);
     /// The unit normal n (from b towards a) and the signed separation at the current positions.
     double geometry(const Row& c, double* n) const;
-    void store_cache(World& w) const;
+    void store_cache(World& w);
     double curve(const MaterialCurve& c, double speed, bool restitution) const;
 
     // velocity-level kernels
@@ -564,6 +568,7 @@ private:
     };
     std::vector<ItemBodies> item_bodies_;
     std::vector<std::uint32_t> stamp_;
+    std::vector<std::uint32_t> slots_used_; // store_cache: the slots each body has filled
     std::vector<std::uint8_t> taken_;
     std::vector<std::int64_t> sorted_;
     std::vector<WideGroup> groups_;

@@ -138,6 +138,12 @@ void Solver::load_groups(bool constants) {
             }
             continue;
         }
+        for (int l = 0; l < WideGroup::kLanes; ++l) {
+            const std::uint32_t a = g.count == 1 ? rows_[g.block[l]].a : blocks_[g.block[l]].a;
+            const std::uint32_t b = g.count == 1 ? rows_[g.block[l]].b : blocks_[g.block[l]].b;
+            g.aim[l] = bodies_[a].im, g.bim[l] = bodies_[b].im;
+            for (int e = 0; e < 6; ++e) g.aii[e][l] = bodies_[a].ii[e], g.bii[e][l] = bodies_[b].ii[e];
+        }
         if (g.count == 1) { // point rows: ra, rb their lever arms, jn[0], bias[0]
             for (int l = 0; l < WideGroup::kLanes; ++l) {
                 const Row& c = rows_[g.block[l]];
@@ -230,12 +236,8 @@ struct LaneBodies {
             bv[d] = V{B[0]->v[d], B[1]->v[d], B[2]->v[d], B[3]->v[d]};
             bw[d] = V{B[0]->w[d], B[1]->w[d], B[2]->w[d], B[3]->w[d]};
         }
-        for (int e = 0; e < 6; ++e) {
-            aii[e] = V{A[0]->ii[e], A[1]->ii[e], A[2]->ii[e], A[3]->ii[e]};
-            bii[e] = V{B[0]->ii[e], B[1]->ii[e], B[2]->ii[e], B[3]->ii[e]};
-        }
-        aim = V{A[0]->im, A[1]->im, A[2]->im, A[3]->im};
-        bim = V{B[0]->im, B[1]->im, B[2]->im, B[3]->im};
+        for (int e = 0; e < 6; ++e) aii[e] = load(g.aii[e]), bii[e] = load(g.bii[e]);
+        aim = load(g.aim), bim = load(g.bim);
     }
     /// The velocity of a's point at the lever arm ra relative to b's at rb (point_velocity):
     /// (v_a + ω_a × r_a) − (v_b + ω_b × r_b).
