@@ -86,7 +86,11 @@ void box_box(const OBB& a, const Eigen::Matrix3d& ra, const OBB& b, const Eigen:
             const double len2 = 1 - c(i, j) * c(i, j);
             if (len2 < 1e-12) continue; // parallel edges: the face axes cover them
             const double r = ha(i1) * ac(i2, j) + ha(i2) * ac(i1, j) + hb(j1) * ac(i, j2) + hb(j2) * ac(i, j1);
-            const double s = (std::abs(ta(i2) * c(i1, j) - ta(i1) * c(i2, j)) - r) / std::sqrt(len2);
+            const double num = std::abs(ta(i2) * c(i1, j) - ta(i1) * c(i2, j)) - r;
+            // A negative num over √len2 ≤ 1 is at most num: no need to divide when that is
+            // already no better than the best so far.
+            if (num < 0 && num <= edge.sep) continue;
+            const double s = num / std::sqrt(len2);
             if (s > edge.sep) edge = {s, 3 * i + j};
         }
     }

@@ -302,10 +302,18 @@ void Solver::setup_rows(double dt) {
             split_[c.b] += 1;
         }
     }
+    // The rows of a manifold of 2+ points form a block (setup_blocks), whose friction acts at
+    // its centre with the block's own effective masses and the first row's μ: its rows need
+    // only their normal's (solve_block_normal's fallback).
+    std::size_t block_left = 0;
     for (Row& c : rows_) {
         const Body& A = bodies_[c.a];
         const Body& B = bodies_[c.b];
         const double sa = jacobi ? split_[c.a] : 1.0, sb = jacobi ? split_[c.b] : 1.0;
+        const bool first_of_block = c.point && c.block_size >= 2;
+        if (first_of_block) block_left = c.block_size;
+        const bool in_block = block_left > 0;
+        if (in_block) --block_left;
         if (c.point) {
             double xa[3], xb[3];
             if (linear) { // the points as found (add_manifold)
@@ -335,10 +343,14 @@ void Solver::setup_rows(double dt) {
                 c.mt2 = inverse_mass(c.t2);
             } else {
                 c.mn = 1 / point_inverse_mass(A, B, c.xa, c.xb, c.n, sa, sb);
-                c.mt1 = 1 / point_inverse_mass(A, B, c.xa, c.xb, c.t1, sa, sb);
-                c.mt2 = 1 / point_inverse_mass(A, B, c.xa, c.xb, c.t2, sa, sb);
+                c.mt1 = in_block ? 0.0 : 1 / point_inverse_mass(A, B, c.xa, c.xb, c.t1, sa, sb);
+                c.mt2 = in_block ? 0.0 : 1 / point_inverse_mass(A, B, c.xa, c.xb, c.t2, sa, sb);
             }
             c.bias = -std::max(c.sep, 0.0) / dt;
+            if (in_block && !first_of_block) {
+                c.mu = 0;
+                continue;
+            }
             double vt1, vt2;
             tangent_velocity(c, A, B, vt1, vt2);
             c.mu = curve(material_.friction, std::sqrt(vt1 * vt1 + vt2 * vt2), false);

@@ -19,7 +19,7 @@ namespace phynjo::runtime::contact_detail {
 namespace {
 
 /// How far ahead of a block pack_groups looks for its three partners, items.
-constexpr std::size_t kWindow = 48;
+constexpr std::size_t kWindow = 96;
 
 } // namespace
 
