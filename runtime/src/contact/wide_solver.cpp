@@ -138,16 +138,16 @@ void Solver::load_groups(bool constants) {
             }
             continue;
         }
-        for (int l = 0; l < WideGroup::kLanes; ++l) {
+        for (int l = 0; l < WideGroup::kLanes; ++l) { // the lanes' bodies, both kinds of group
             const std::uint32_t a = g.count == 1 ? rows_[g.block[l]].a : blocks_[g.block[l]].a;
             const std::uint32_t b = g.count == 1 ? rows_[g.block[l]].b : blocks_[g.block[l]].b;
+            g.a[l] = a, g.b[l] = b;
             g.aim[l] = bodies_[a].im, g.bim[l] = bodies_[b].im;
             for (int e = 0; e < 6; ++e) g.aii[e][l] = bodies_[a].ii[e], g.bii[e][l] = bodies_[b].ii[e];
         }
         if (g.count == 1) { // point rows: ra, rb their lever arms, jn[0], bias[0]
             for (int l = 0; l < WideGroup::kLanes; ++l) {
                 const Row& c = rows_[g.block[l]];
-                g.a[l] = c.a, g.b[l] = c.b;
                 for (int d = 0; d < 3; ++d) {
                     g.n[d][l] = c.n[d], g.ra[d][l] = c.xa[d], g.rb[d][l] = c.xb[d];
                     g.t1[d][l] = c.t1[d], g.t2[d][l] = c.t2[d];
@@ -159,7 +159,6 @@ void Solver::load_groups(bool constants) {
         }
         for (int l = 0; l < WideGroup::kLanes; ++l) {
             const Block& k = blocks_[g.block[l]];
-            g.a[l] = k.a, g.b[l] = k.b;
             for (int d = 0; d < 3; ++d) {
                 g.n[d][l] = k.n[d], g.ra[d][l] = k.ra[d], g.rb[d][l] = k.rb[d];
                 g.t1[d][l] = k.t1[d], g.t2[d][l] = k.t2[d], g.off[d][l] = k.off[d];
