@@ -5,7 +5,9 @@
 // the effective mass I/d²; a free plate struck off-centre 1/(1/m + b²/I)), momentum and
 // angular momentum, and a plate that lands and lies flat.
 #include "free_plate.hpp"
+#include "free_rod.hpp"
 #include "paddle.hpp"
+#include "planar_ball.hpp"
 #include "phynjo/runtime/runtime.hpp"
 
 #include <catch2/catch.hpp>
@@ -30,6 +32,11 @@ Scene ball_and(LagrangianSystem model, double m2, double rb, const Eigen::Vector
     s.velocity = v;
     return make_scene(reg, {RigidBody::solid_sphere(m2, rb)}, {s}, {ModelInstance{"m", std::move(model)}},
                       contact_cache_fields());
+}
+
+/// Model instances alone (no rigid bodies), with the warm-start cache.
+Scene models_only(std::vector<ModelInstance> models) {
+    return make_scene(Registry{}, {}, {}, std::move(models), contact_cache_fields());
 }
 
 void contacts_once(Scene& sc, ContactMaterial mat, ContactOptions options = {}) {
@@ -211,4 +218,124 @@ TEST_CASE("a plate standing on its short face stays standing, at its height", "[
     P.b = -0.1;
     CHECK_THROWS_WITH(make_scene(Registry{}, {}, {}, {ModelInstance{"plate", free_plate::system(P)}}),
                       Catch::Contains("box 'plate' of model 'plate' has half extent -0.1"));
+}
+
+// Other instances' shapes against a model box: both sides of a row are models, the impulse
+// reaches each through its own B (a box's as the wrench (P, r × P)).
+
+// Bugs caught: model box–model box pairs missing (the plates pass through each other), the
+// impulse applied to one side only or with the same sign on both (momentum not kept), side a's
+// wrench left out of the block (its K share, or its velocity change), the face's points solved
+// one by one (an uneven push that turns the plates).
+TEST_CASE("a free plate striking another face-on: separation e × approach, momentum kept, no turn", "[scene][box][physics]") {
+    for (const bool upper_first : {true, false}) { // the striking plate as side a, then as side b
+        for (const double e : {1.0, 0.5, 0.0}) {
+            CAPTURE(upper_first, e);
+            free_plate::Parameters P; // m = 1, half extents 0.3 × 0.1 × 0.2, no gravity
+            const double v = 1.3;
+            Scene sc = models_only({ModelInstance{"p", free_plate::system(P)}, ModelInstance{"q", free_plate::system(P)}});
+            const std::size_t up = upper_first ? 0 : 1, low = 1 - up;
+            const double qu[3] = {0, 2 * P.b - 1e-6, 0}, vu[3] = {0, -v, 0}, ql[3] = {0, 0, 0}, vl[3] = {0, 0, 0};
+            set_model_state(sc, up, qu, vu);
+            set_model_state(sc, low, ql, vl);
+            contacts_once(sc, elastic(e));
+            const std::vector<double> a = model_qdot(sc, up), b = model_qdot(sc, low);
+            CHECK(a[1] + b[1] == Approx(-v).epsilon(1e-9)); // momentum (equal masses)
+            CHECK(a[1] - b[1] == Approx(e * v).margin(1e-9)); // separation = e × approach
+            CHECK(std::abs(a[2]) + std::abs(b[2]) < 1e-9);  // struck face on: no turn
+            CHECK(std::abs(a[0]) + std::abs(b[0]) < 1e-9);
+        }
+    }
+}
+
+// Bugs caught: a model rod's (capsule's) rows against a model box missing, its contact point
+// taken at the wrong fraction s (another lever arm: the rod's spin and the plate's push would
+// differ from the two-body impact), side a's impulse at its point not reaching its model.
+TEST_CASE("a model rod's end striking a model plate off-centre: the two-body impact of their effective masses", "[scene][box][capsule][physics]") {
+    for (const auto& [ph, bx, e] : {std::tuple{-0.3, 0.1, 1.0}, std::tuple{-0.6, -0.2, 0.5}, std::tuple{-0.2, 0.0, 0.0}}) {
+        CAPTURE(ph, bx, e);
+        free_plate::Parameters P; // m = 1, a = 0.3, b = 0.1
+        free_rod::Parameters R;   // m = 1, l = 1, r = 0.05, along ph from x
+        const double v = 0.8, Ip = P.m * (P.a * P.a + P.b * P.b) / 3, Ir = R.m * R.l * R.l / 12;
+        const double cx = R.l / 2 * std::cos(ph), cy = R.l / 2 * std::sin(ph); // its lower end at (x + cx, y + cy)
+        Scene sc = models_only({ModelInstance{"plate", free_plate::system(P)}, ModelInstance{"rod", free_rod::system(R)}});
+        const double qp[3] = {0, 0, 0}, z[3] = {0, 0, 0};
+        const double qr[3] = {bx - cx, P.b + R.r - 1e-7 - cy, ph}, vr[3] = {0, -v, 0};
+        set_model_state(sc, 0, qp, z);
+        set_model_state(sc, 1, qr, vr);
+        contacts_once(sc, elastic(e));
+        // K = 1/m_r + cx²/I_r + 1/m_p + bx²/I_p along y; impulse P = (1 + e) v / K
+        const double K = 1 / R.m + cx * cx / Ir + 1 / P.m + bx * bx / Ip, J = (1 + e) * v / K;
+        const std::vector<double> p = model_qdot(sc, 0), r = model_qdot(sc, 1);
+        CHECK(r[1] == Approx(-v + J / R.m).margin(1e-9));
+        CHECK(r[2] == Approx(cx * J / Ir).margin(1e-9));
+        CHECK(p[1] == Approx(-J / P.m).margin(1e-9));
+        CHECK(p[2] == Approx(-bx * J / Ip).margin(1e-9));
+        CHECK(std::abs(p[0]) + std::abs(r[0]) < 1e-9); // frictionless: nothing along x
+    }
+}
+
+// Bugs caught: a model sphere's rows against another model's box missing or its normal
+// reversed, the sphere's impulse reaching the plate at the wrong lever arm.
+TEST_CASE("a model ball striking a model plate off-centre: 1/m_eff = 1/m + b²/I, momentum and angular momentum", "[scene][box][physics]") {
+    for (const auto& [bx, e] : {std::tuple{0.2, 1.0}, std::tuple{-0.1, 0.6}, std::tuple{0.0, 0.3}}) {
+        CAPTURE(bx, e);
+        free_plate::Parameters P;
+        planar_ball::Parameters B; // m = 1, r = 0.1
+        B.g = 0;
+        const double v = 1.1, I = P.m * (P.a * P.a + P.b * P.b) / 3;
+        Scene sc = models_only({ModelInstance{"ball", planar_ball::system(B)}, ModelInstance{"plate", free_plate::system(P)}});
+        const double qb[2] = {bx, -P.b - B.r + 1e-7}, vb[2] = {0, v}, qp[3] = {0, 0, 0}, z[3] = {0, 0, 0};
+        set_model_state(sc, 0, qb, vb);
+        set_model_state(sc, 1, qp, z);
+        contacts_once(sc, elastic(e));
+        const double meff = 1 / (1 / P.m + bx * bx / I);
+        const std::vector<double> ball = model_qdot(sc, 0), plate = model_qdot(sc, 1);
+        CHECK(plate[1] + plate[2] * bx == Approx((1 + e) * B.m * v / (meff + B.m)).margin(1e-9)); // the struck point
+        CHECK(ball[1] == Approx((B.m - e * meff) * v / (meff + B.m)).margin(1e-9));
+        CHECK(P.m * plate[1] + B.m * ball[1] == Approx(B.m * v).epsilon(1e-9));
+        CHECK(I * plate[2] + B.m * bx * ball[1] == Approx(B.m * bx * v).margin(1e-9)); // about the origin
+    }
+}
+
+// Bugs caught: resting contacts between two models' boxes sinking (the position correction
+// applied to one side only, or through the wrong lever arm), a model ball resting on a model
+// plate falling through it, the rows of models' boxes not warm-started (the stack creeps
+// sideways, about 1 mm/s: ten passes from nothing a step leave the off-centre load unbalanced)
+// or their cache keys colliding.
+TEST_CASE("a plate resting on a plate on the ground, and a ball on top: a stack of models stands", "[scene][box][physics]") {
+    free_plate::Parameters P;
+    P.g = 9.81;
+    planar_ball::Parameters B; // r = 0.1, g = 9.81
+    Scene sc = models_only({ModelInstance{"low", free_plate::system(P)}, ModelInstance{"high", free_plate::system(P)},
+                            ModelInstance{"ball", planar_ball::system(B)}});
+    const double ql[3] = {0, P.b + 2e-3, 0.01}, qh[3] = {0.05, 3 * P.b + 8e-3, -0.02}, qb[2] = {0.1, 4 * P.b + B.r + 0.02};
+    const double z[3] = {0, 0, 0};
+    set_model_state(sc, 0, ql, z);
+    set_model_state(sc, 1, qh, z);
+    set_model_state(sc, 2, qb, std::vector{0.0, 0.0});
+    Stepper st(scene_step(sc, Force3D{}, {Plane::ground()}, ContactMaterial{restitution_curve(0.2, 0.05), constant_curve(0.5)}, {}));
+    double sink = 0;
+    for (int k = 0; k < 4000; ++k) {
+        st.step(sc.world, 1e-3);
+        const std::vector<double> l = model_q(sc, 0), h = model_q(sc, 1), b = model_q(sc, 2);
+        if (k > 500) { // settled: how far each sits below where it rests
+            sink = std::max({sink, P.b - l[1], 3 * P.b - h[1], 4 * P.b + B.r - b[1]});
+        }
+    }
+    const std::vector<double> l = model_q(sc, 0), h = model_q(sc, 1), b = model_q(sc, 2);
+    CHECK(sink < 1e-3); // no layer sank a millimetre
+    CHECK(l[1] == Approx(P.b).margin(5e-4));
+    CHECK(h[1] == Approx(3 * P.b).margin(1e-3));
+    CHECK(b[1] == Approx(4 * P.b + B.r).margin(1.5e-3));
+    CHECK(std::abs(std::sin(l[2])) < 1e-3);
+    CHECK(std::abs(std::sin(h[2])) < 1e-3);
+    const std::vector<double> vl = model_qdot(sc, 0), vh = model_qdot(sc, 1), vb = model_qdot(sc, 2);
+    CHECK(std::abs(vl[0]) + std::abs(vl[1]) + std::abs(vl[2]) + std::abs(vh[0]) + std::abs(vh[1]) + std::abs(vh[2]) < 0.03);
+    CHECK(std::abs(vb[0]) + std::abs(vb[1]) < 0.03);
+    for (int k = 0; k < 1000; ++k) st.step(sc.world, 1e-3);
+    const std::vector<double> h2 = model_q(sc, 1), b2 = model_q(sc, 2);
+    CHECK(std::abs(h2[0] - h[0]) < 2e-4); // no creep
+    CHECK(std::abs(h2[1] - h[1]) < 1e-4);
+    CHECK(std::abs(b2[0] - b[0]) < 2e-4);
 }

@@ -53,12 +53,12 @@ void Solver::setup_blocks() {
             b.mt2 = 1 / point_inverse_mass(A, B, b.ra, b.rb, b.t2, sa, sb);
             b.mtw = 1 / (sa * quad(A.ii, c.n) + sb * quad(B.ii, c.n));
         } else { // a model may not move or turn along some directions at all: no impulse there
-            const double floor = kSingularInverseMass * (sa * A.im + sb * inverse_mass_scale(B));
+            const double floor = kSingularInverseMass * (sa * inverse_mass_scale(A) + sb * inverse_mass_scale(B));
             auto inverse = [floor](double k) { return k > floor ? 1 / k : 0.0; };
             const double g[6] = {0, 0, 0, c.n[0], c.n[1], c.n[2]};
             b.mt1 = inverse(point_k(A, B, b.ra, b.rb, b.t1, sa, sb));
             b.mt2 = inverse(point_k(A, B, b.ra, b.rb, b.t2, sa, sb));
-            b.mtw = inverse(sa * quad(A.ii, c.n) + sb * model_box_k(B, g, g));
+            b.mtw = inverse(sa * (is_model_box(A) ? model_box_k(A, g, g) : quad(A.ii, c.n)) + sb * model_box_k(B, g, g));
         }
         b.mu = c.mu;
         b.jt1 = b.jt2 = b.jtw = 0;
@@ -129,10 +129,15 @@ bool Solver::solve_block(Block& k, const std::vector<Body>& from) {
     Body& B = bodies_[k.b];
     if (is_model_box(B)) { // −Σ λ_j n at its points: the force −total n, the moment −Σ λ_j r_b,j × n
         double wa[3];
-        mul_sym(A.ii, u, wa);
+        if (is_model_box(A)) { // another model's box: the force total n, the moment Σ λ_j r_a,j × n
+            const double force[3] = {total * n[0], total * n[1], total * n[2]};
+            model_wrench(A, force, u, bodies_, false);
+        } else {
+            mul_sym(A.ii, u, wa);
+            for (int d = 0; d < 3; ++d) A.v[d] += A.im * total * n[d], A.w[d] += wa[d];
+        }
         for (int d = 0; d < 3; ++d) u[d] += total * k.off[d];
         const double force[3] = {-total * n[0], -total * n[1], -total * n[2]}, moment[3] = {-u[0], -u[1], -u[2]};
-        for (int d = 0; d < 3; ++d) A.v[d] += A.im * total * n[d], A.w[d] += wa[d];
         model_wrench(B, force, moment, bodies_, false);
         return true;
     }
@@ -279,7 +284,13 @@ void Solver::fill_block(const Body& A, const Body& B, const double* n, const dou
             for (std::size_t q = 0; q < m; ++q) {
                 const double gp[6] = {n[0], n[1], n[2], ub[p][0], ub[p][1], ub[p][2]};
                 const double gq[6] = {n[0], n[1], n[2], ub[q][0], ub[q][1], ub[q][2]};
-                k.k[4 * p + q] = sa * (A.im + dot(ua[p], ia[q])) + sb * model_box_k(B, gp, gq);
+                double ka = A.im + dot(ua[p], ia[q]);
+                if (is_model_box(A)) { // another model's box as side a: g = (n, r_a × n)
+                    const double hp[6] = {n[0], n[1], n[2], ua[p][0], ua[p][1], ua[p][2]};
+                    const double hq[6] = {n[0], n[1], n[2], ua[q][0], ua[q][1], ua[q][2]};
+                    ka = model_box_k(A, hp, hq);
+                }
+                k.k[4 * p + q] = sa * ka + sb * model_box_k(B, gp, gq);
             }
     // The full set's pseudo-inverse (the least impulses that do it): four points of a face
     // give a K of rank 3, whose regularised inverse would amplify round-off unevenly; its
@@ -339,7 +350,9 @@ bool Solver::correct_block(std::size_t first, Block& k) {
     mul_sym(B.ii, tb, wb);
     if (is_model_box(B)) { // moved at once, also under Jacobi (its points move with the model)
         const double force[3] = {-p[0], -p[1], -p[2]}, moment[3] = {-tb[0], -tb[1], -tb[2]};
-        if (jacobi) {
+        if (is_model_box(A)) { // another model's box as side a: the wrench (P, Σ r_a × P_j)
+            model_wrench(A, p, ta, bodies_, true);
+        } else if (jacobi) {
             for (int d = 0; d < 3; ++d) delta_[3 * c.a + d] += A.im * p[d], turn_[3 * c.a + d] += wa[d];
         } else {
             for (int d = 0; d < 3; ++d) A.p[d] += A.im * p[d];

@@ -77,8 +77,14 @@ void Solver::gather(const World& w) {
 
 void Solver::anchors(const Row& c, double* xa, double* xb) const {
     const Body& A = bodies_[c.a];
-    const Eigen::Vector3d a = Quaternion{A.q[0], A.q[1], A.q[2], A.q[3]}.rotate(Eigen::Vector3d(c.la[0], c.la[1], c.la[2]));
-    for (int k = 0; k < 3; ++k) xa[k] = A.p[k] + a(k);
+    if (A.model >= 0 && A.shape != Shape::box) { // a model side a (against a model box): its point at sa, offset
+        double t[3];
+        const double* x = at_fraction(A, c.sa, false, t);
+        for (int k = 0; k < 3; ++k) xa[k] = x[k] + c.la[k];
+    } else {
+        const Eigen::Vector3d a = Quaternion{A.q[0], A.q[1], A.q[2], A.q[3]}.rotate(Eigen::Vector3d(c.la[0], c.la[1], c.la[2]));
+        for (int k = 0; k < 3; ++k) xa[k] = A.p[k] + a(k);
+    }
     if (c.plane >= 0) {
         for (int k = 0; k < 3; ++k) xb[k] = c.lb[k];
         return;
@@ -98,10 +104,14 @@ void Solver::apply_point(const Row& c, const double* p, std::vector<Body>& B) {
     Body& A = B[c.a];
     Body& Bb = B[c.b];
     double u[3], i[3];
-    for (int k = 0; k < 3; ++k) A.v[k] += A.im * p[k];
-    cross(c.xa, p, u);
-    mul_sym(A.ii, u, i);
-    for (int k = 0; k < 3; ++k) A.w[k] += i[k];
+    if (A.model >= 0) { // P on a model side a (against a model box) at its point sa
+        model_impulse(A, p, B, false, c.sa, is_model_box(A) ? c.xa : nullptr);
+    } else {
+        for (int k = 0; k < 3; ++k) A.v[k] += A.im * p[k];
+        cross(c.xa, p, u);
+        mul_sym(A.ii, u, i);
+        for (int k = 0; k < 3; ++k) A.w[k] += i[k];
+    }
     if (Bb.model >= 0) { // −P on the model at its point sb
         const double q[3] = {-p[0], -p[1], -p[2]};
         model_impulse(Bb, q, B, false, c.sb, is_model_box(Bb) ? c.xb : nullptr);
@@ -185,8 +195,17 @@ void Solver::correct_positions() {
                 }
                 cross(ra, n, ua);
                 cross(rb, n, ub);
-                if (Bb.model >= 0) { // a model side b: uᵀ A(s) u, and its correction through B(s)
+                if (A.model >= 0 || Bb.model >= 0) { // a model side: uᵀ A(s) u, and its correction through B(s)
                     const double* arm = is_model_box(Bb) ? rb : nullptr;
+                    if (A.model >= 0) { // both sides models (a model box's row against another model)
+                        const double* arm_a = is_model_box(A) ? ra : nullptr;
+                        const double k_inv = linear_inverse_mass(A, n, c.sa, arm_a) + linear_inverse_mass(Bb, n, c.sb, arm);
+                        if (!(k_inv > kSingularInverseMass * (inverse_mass_scale(A) + inverse_mass_scale(Bb)))) continue;
+                        const double corr = beta * depth / k_inv;
+                        position_impulse(A, c.a, corr, n, jacobi, c.sa, arm_a);
+                        position_impulse(Bb, c.b, -corr, n, jacobi, c.sb, arm);
+                        continue;
+                    }
                     const double k_inv = A.im + quad(A.ii, ua) + linear_inverse_mass(Bb, n, c.sb, arm);
                     if (!(k_inv > kSingularInverseMass * (A.im + inverse_mass_scale(Bb)))) continue;
                     const double corr = beta * depth / k_inv;
@@ -321,21 +340,24 @@ void Solver::setup_rows(double dt) {
             } else {
                 anchors(c, xa, xb);
             }
+            // a model sphere or capsule does not spin; a model box does
+            const bool spin_a = A.model < 0 || A.shape == Shape::box, spin_b = c.plane < 0 && (B.model < 0 || B.shape == Shape::box);
             for (int k = 0; k < 3; ++k) {
                 const double mid = 0.5 * (xa[k] + xb[k]);
-                c.xa[k] = mid - A.p[k];
-                // a model sphere or capsule does not spin; a model box does
-                c.xb[k] = c.plane >= 0 || (B.model >= 0 && B.shape != Shape::box) ? 0.0 : mid - B.p[k];
+                c.xa[k] = spin_a ? mid - A.p[k] : 0.0;
+                c.xb[k] = spin_b ? mid - B.p[k] : 0.0;
             }
             c.ra = c.rb = 0;
             c.sep = (xa[0] - xb[0]) * c.n[0] + (xa[1] - xb[1]) * c.n[1] + (xa[2] - xb[2]) * c.n[2];
             tangent_basis(c.n, c.t1, c.t2);
             if (B.model >= 0) { // a model side b (file comment of solver.hpp): uᵀ A(s) u for it
-                const double floor = kSingularInverseMass * (sa * A.im + sb * inverse_mass_scale(B));
+                const double floor = kSingularInverseMass * (sa * inverse_mass_scale(A) + sb * inverse_mass_scale(B));
                 auto inverse_mass = [&](const double* u) {
                     double ua[3];
                     cross(c.xa, u, ua);
-                    const double k = sa * (A.im + quad(A.ii, ua)) + sb * linear_inverse_mass(B, u, c.sb, is_model_box(B) ? c.xb : nullptr);
+                    // (a model side a, against a model box: its own uᵀ A u at its point)
+                    const double ka = A.model >= 0 ? linear_inverse_mass(A, u, c.sa, is_model_box(A) ? c.xa : nullptr) : A.im + quad(A.ii, ua);
+                    const double k = sa * ka + sb * linear_inverse_mass(B, u, c.sb, is_model_box(B) ? c.xb : nullptr);
                     return k > floor ? 1 / k : 0.0;
                 };
                 c.mn = inverse_mass(c.n);
@@ -398,8 +420,12 @@ void Solver::apply_central(const Block& k, double l1, double l2, double ltw, std
     }
     cross(k.ra, p, u);
     for (int d = 0; d < 3; ++d) u[d] += ltw * k.n[d];
-    mul_sym(A.ii, u, i);
-    for (int d = 0; d < 3; ++d) A.w[d] += i[d];
+    if (is_model_box(A)) { // another model's box as side a (b is one too): p and the moment r_a × p + ltw n
+        model_wrench(A, p, u, B, false);
+    } else {
+        mul_sym(A.ii, u, i);
+        for (int d = 0; d < 3; ++d) A.w[d] += i[d];
+    }
     cross(k.rb, p, u);
     for (int d = 0; d < 3; ++d) u[d] += ltw * k.n[d];
     if (is_model_box(Bb)) { // −p at its centre of the block and the moment −(r_b × p + ltw n)
@@ -478,19 +504,76 @@ void Solver::side_impulse(Body& X, const double* p, const double* u, double r, d
     }
 }
 
+bool Solver::cache_home(const Row& c, CacheHome& h) const {
+    const std::size_t stat = ids_.size();
+    if (c.a < stat && c.b <= stat) { // a rigid body's or model sphere's, against one or a plane
+        h.first = &ids_[c.a];
+        h.components = 1;
+        h.counter = c.a;
+        h.key = cache_key(c);
+        return true;
+    }
+    // A model capsule's rows that are not a manifold's keep no cache (their point moves along
+    // the segment, and nothing names which end they are).
+    if (!c.point) return false;
+    // The other side's tag: a component's index + 1, a plane's −(index + 1), or, a model's
+    // capsule or box (no component), the count of components + its place among them.
+    auto tag = [&](std::uint32_t x) {
+        if (x == stat) return -static_cast<double>(c.plane_a); // (side a: the plane's index + 1)
+        if (x < stat) return ids_[x] + 1.0;
+        return static_cast<double>(layout_->components.size() + (x - stat));
+    };
+    auto keyed = [&](double partner) {
+        const double f = 4294967296.0 * c.feature;
+        return partner > 0 ? partner + f : partner - f;
+    };
+    if (c.a < stat) { // side a's component, the model capsule or box b tagged
+        h.first = &ids_[c.a];
+        h.components = 1;
+        h.counter = c.a;
+        h.key = keyed(tag(c.b));
+        return true;
+    }
+    // Side a has no component (a plane's static body, or a model capsule or box): the row is
+    // kept in the slots of the coordinates of the model of a (of b against a plane), pooled,
+    // keyed by the other side's tag and the shape's place among its model's capsules and
+    // boxes (2²² apart: up to 4,194,303 tags and 1,024 shapes a model, else not cached).
+    const std::uint32_t own = c.a == stat ? c.b : c.a;
+    const Body& X = bodies_[own];
+    const ModelScratch& m = models_[static_cast<std::size_t>(X.model)];
+    const double partner = tag(own == c.a ? c.b : c.a);
+    const std::size_t local = X.shape == Shape::box ? m.placed.ends.size() + static_cast<std::size_t>(X.sphere) : static_cast<std::size_t>(X.sphere);
+    constexpr double kTags = 4194304.0;
+    if (partner == 0 || !(std::abs(partner) < kTags) || local >= 1024 || m.placed.coordinates.empty()) return false;
+    const double base = std::abs(partner) + kTags * static_cast<double>(local);
+    h.first = m.placed.coordinates.data();
+    h.components = m.placed.coordinates.size();
+    h.counter = stat + 1 + static_cast<std::size_t>(X.model); // after the bodies' counters
+    h.key = keyed(partner > 0 ? base : -base);
+    return true;
+}
+
 void Solver::find_slots(const World& w) {
     if (slots_.empty()) return;
-    const std::size_t stat = ids_.size();
+    CacheHome h;
     for (Row& c : rows_) {
-        if (c.a > stat || c.b > stat) continue; // a model capsule's: no cache (its point moves along it)
-        const Index a = ids_[c.a];
-        const double key = cache_key(c);
-        for (std::size_t k = 0; k < slots_.size(); ++k) {
-            const double p = w.at(slots_[k].partner, a);
-            if (p == 0) break; // slots are filled from the front
-            if (p == key) {
-                c.slot = static_cast<int>(k);
-                break;
+        if (!cache_home(c, h)) continue;
+        // slots are filled from the front, component after component of a pool
+        bool done = false;
+        for (std::size_t i = 0; i < h.components && !done; ++i) {
+            const Index a = h.first[i];
+            for (std::size_t k = 0; k < slots_.size(); ++k) {
+                const double p = w.at(slots_[k].partner, a);
+                if (p == 0) {
+                    done = true;
+                    break;
+                }
+                if (p == h.key) {
+                    c.slot = static_cast<int>(k);
+                    c.home = a;
+                    done = true;
+                    break;
+                }
             }
         }
     }
@@ -501,7 +584,7 @@ void Solver::warm_start(const World& w) {
     for (Row& c : rows_) {
         if (c.slot < 0) continue;
         const Slot* s = &slots_[static_cast<std::size_t>(c.slot)];
-        const Index a = ids_[c.a];
+        const Index a = c.home;
         const double jt[3] = {w.at(s->jtx, a), w.at(s->jty, a), w.at(s->jtz, a)};
         c.jn = w.at(s->jn, a);
         apply_normal(c, c.jn, bodies_);
@@ -700,19 +783,26 @@ void Solver::scatter(World& w) {
 
 void Solver::store_cache(World& w) {
     if (slots_.empty()) return;
-    for (const Slot& s : slots_)
+    for (const Slot& s : slots_) {
         for (Index i : ids_) w.at(s.partner, i) = 0;
+        for (const ModelScratch& m : models_)
+            if (m.pooled)
+                for (Index i : m.placed.coordinates) w.at(s.partner, i) = 0;
+    }
     // Rows are grouped by body a (pairs sorted by a, then the planes of each body in order),
-    // but a body's rows need not be contiguous: each fills its body's next slot, from the
-    // front (find_slots stops at the first empty one; a key is never 0).
-    slots_used_.assign(ids_.size(), 0);
+    // but a body's rows need not be contiguous: each fills its body's next slot (a model's
+    // pool: the next of its coordinates' slots), from the front (find_slots stops at the first
+    // empty one; a key is never 0).
+    slots_used_.assign(ids_.size() + 1 + models_.size(), 0);
+    CacheHome h;
     for (const Row& c : rows_) {
-        if (c.jn <= 0 || c.a > ids_.size() || c.b > ids_.size()) continue; // model capsules: no cache
-        std::uint32_t& used = slots_used_[c.a];
-        if (used == slots_.size()) continue; // every slot taken: the contact is not cached
-        const Slot& s = slots_[used++];
-        const Index a = ids_[c.a];
-        w.at(s.partner, a) = cache_key(c);
+        if (c.jn <= 0 || !cache_home(c, h)) continue;
+        std::uint32_t& used = slots_used_[h.counter];
+        if (used == h.components * slots_.size()) continue; // every slot taken: the contact is not cached
+        const Slot& s = slots_[used % slots_.size()];
+        const Index a = h.first[used / slots_.size()];
+        ++used;
+        w.at(s.partner, a) = h.key;
         w.at(s.jn, a) = c.jn;
         w.at(s.jtx, a) = c.jt1 * c.t1[0] + c.jt2 * c.t2[0];
         w.at(s.jty, a) = c.jt1 * c.t1[1] + c.jt2 * c.t2[1];

@@ -111,22 +111,34 @@ void Solver::model_box_rows(double dt) {
     const bool uniform = options_.margin >= 0;
     const auto stat = static_cast<std::uint32_t>(ids_.size());
     Manifold m;
-    const std::uint32_t first = stat + 1 + static_cast<std::uint32_t>(n_capsules_);
+    const std::uint32_t first_capsule = stat + 1, first = first_capsule + static_cast<std::uint32_t>(n_capsules_);
+    // The margin of a model box as detect's of a rigid one, at its fastest corner; a model
+    // capsule's as capsule_rows'.
+    auto box_margin = [&](const Body& X) {
+        if (uniform) return 0.5 * options_.margin;
+        const double size = std::min({X.h[0], X.h[1], X.h[2]});
+        const double speed = std::sqrt(dot(X.v, X.v)) + std::sqrt(dot(X.w, X.w)) * std::sqrt(dot(X.h, X.h));
+        return std::min(size, std::max(2 * speed * dt, std::max(options_.slop, 0.02 * size)));
+    };
+    auto capsule_margin = [&](const Body& b) {
+        if (uniform) return 0.5 * options_.margin;
+        const double v = std::sqrt(std::max(dot(b.v, b.v), dot(b.v2, b.v2)));
+        return std::min(b.r, std::max(2 * v * dt, std::max(options_.slop, 0.02 * b.r)));
+    };
     for (std::uint32_t k = first; k < first + n_boxes_; ++k) {
         const Body& X = bodies_[k];
-        // The margin of a model box as detect's of a rigid one, at its fastest corner.
-        const double size = std::min({X.h[0], X.h[1], X.h[2]});
         const double reach = std::sqrt(dot(X.h, X.h));
-        const double speed = std::sqrt(dot(X.v, X.v)) + std::sqrt(dot(X.w, X.w)) * reach;
-        const double mx = uniform ? 0.5 * options_.margin : std::min(size, std::max(2 * speed * dt, std::max(options_.slop, 0.02 * size)));
+        const double mx = box_margin(X);
         for (std::size_t i = 0; i < planes_.size(); ++i) { // the static body as side a, at the plane's points
             if (!collide_plane(X, planes_[i], mx, m)) continue;
             m.flip(); // the model box is side b
-            add_model_manifold(m, stat, k, nullptr);
+            add_model_manifold(m, stat, k, nullptr, nullptr, static_cast<int>(i));
         }
         const Eigen::Vector3d c(X.p[0], X.p[1], X.p[2]);
-        for (std::uint32_t j = 0; j < n_rigid_; ++j) {
+        // Rigid bodies and other models' spheres (side a; normal from the model box towards them).
+        for (std::uint32_t j = 0; j < stat; ++j) {
             const Body& A = bodies_[j];
+            if (A.model >= 0 && A.model == X.model) continue; // one model: no pair
             const double ma = uniform ? 0.5 * options_.margin : margins_[j];
             // a bounding sphere of each: enough to skip the far ones
             const double ra = A.shape == Shape::sphere ? A.r : std::sqrt(dot(A.h, A.h)) + A.r;
@@ -134,8 +146,32 @@ void Solver::model_box_rows(double dt) {
             const double within = ra + reach + ma + mx;
             if (dot(d, d) > within * within) continue;
             if (A.shape == Shape::sphere && !(A.r > 0)) continue;
-            if (!collide(A, X, ma + mx, m)) continue; // normal from the model box towards A
-            add_model_manifold(m, j, k, nullptr);
+            if (!collide(A, X, ma + mx, m)) continue;
+            add_model_manifold(m, j, k, nullptr, nullptr);
+        }
+        // Other models' capsules (side a, each point at its fraction along the segment).
+        for (std::uint32_t j = first_capsule; j < first; ++j) {
+            const Body& A = bodies_[j];
+            if (A.model == X.model) continue;
+            const Capsule ca = model_capsule(A);
+            const double ma = capsule_margin(A);
+            const Eigen::Vector3d mid = 0.5 * (ca.p0 + ca.p1);
+            const double within = 0.5 * (ca.p1 - ca.p0).norm() + ca.radius + reach + ma + mx;
+            if ((mid - c).squaredNorm() > within * within) continue;
+            m.count = 0;
+            capsule_box(ca, obb_of(X), ma + mx, m); // normal from the box towards the capsule
+            if (m.count > 0) add_model_manifold(m, j, k, &ca, nullptr);
+        }
+        // Other models' boxes met before it (side a).
+        for (std::uint32_t j = first; j < k; ++j) {
+            const Body& A = bodies_[j];
+            if (A.model == X.model) continue;
+            const double ma = box_margin(A);
+            const double d[3] = {A.p[0] - c.x(), A.p[1] - c.y(), A.p[2] - c.z()};
+            const double within = std::sqrt(dot(A.h, A.h)) + reach + ma + mx;
+            if (dot(d, d) > within * within) continue;
+            if (!collide(A, X, ma + mx, m)) continue;
+            add_model_manifold(m, j, k, nullptr, nullptr);
         }
     }
 }
@@ -182,7 +218,7 @@ void Solver::capsule_rows(double dt) {
                 } else {
                     capsule_capsule(capsule_of(B), ca, ma + mb, m);
                 }
-                add_model_manifold(m, j, k, &ca);
+                add_model_manifold(m, j, k, nullptr, &ca);
                 continue;
             }
             if (!(B.r > 0)) continue;
@@ -334,7 +370,7 @@ void Solver::model_sphere_contacts() {
                 continue;
             }
             if (!collide(A, X, margin_of(k) + mx, m)) continue; // normal from the model sphere towards A
-            add_model_manifold(m, static_cast<std::uint32_t>(k), static_cast<std::uint32_t>(j), nullptr);
+            add_model_manifold(m, static_cast<std::uint32_t>(k), static_cast<std::uint32_t>(j), nullptr, nullptr);
         }
         for (std::size_t k = j + 1; k < ids_.size(); ++k) { // other models' spheres
             const Body& B = bodies_[k];
@@ -351,33 +387,40 @@ void Solver::model_sphere_contacts() {
     }
 }
 
-void Solver::add_model_manifold(const Manifold& m, std::uint32_t a, std::uint32_t b, const Capsule* axis) {
+void Solver::add_model_manifold(const Manifold& m, std::uint32_t a, std::uint32_t b, const Capsule* axis_a,
+                                const Capsule* axis_b, int plane) {
     const Body& A = bodies_[a];
     const Body& B = bodies_[b];
-    const Quaternion qa{A.q[0], A.q[1], A.q[2], A.q[3]};
+    // A model sphere or capsule side keeps its point's offset from the point at its fraction
+    // (world); a rigid body or model box its point in its own frame (it turns).
+    auto anchor = [this](const Body& X, const Eigen::Vector3d& on, double s, double* l) {
+        double t[3];
+        const double* x = at_fraction(X, s, false, t);
+        const Eigen::Vector3d d(on(0) - x[0], on(1) - x[1], on(2) - x[2]);
+        const Eigen::Vector3d local = X.model >= 0 && X.shape != Shape::box ? d : Quaternion{X.q[0], X.q[1], X.q[2], X.q[3]}.rotate_inverse(d);
+        for (int i = 0; i < 3; ++i) l[i] = local(i);
+    };
     for (int k = 0; k < m.count; ++k) {
         const ManifoldPoint& p = m.points[static_cast<std::size_t>(k)];
         Row r{};
         r.a = a;
         r.b = b;
-        r.plane = -1;
+        r.plane = -1; // (b is no plane's static body)
         r.point = true;
+        r.plane_a = plane + 1 <= 65535 ? static_cast<std::uint16_t>(plane + 1) : 0; // (0: not cached)
         r.feature = p.feature;
         r.n[0] = m.normal.x(), r.n[1] = m.normal.y(), r.n[2] = m.normal.z();
-        const Eigen::Vector3d la = qa.rotate_inverse(p.on_a - Eigen::Vector3d(A.p[0], A.p[1], A.p[2]));
-        r.sb = axis != nullptr ? fraction_along(*axis, p.on_b - axis->radius * m.normal) : 0.0;
-        double t[3];
-        const double* x = at_fraction(B, r.sb, false, t); // the model's point behind on_b
-        for (int i = 0; i < 3; ++i) r.la[i] = la(i), r.lb[i] = p.on_b(i) - x[i];
-        if (B.shape == Shape::box) { // a model box: in its frame, as a rigid body's (it turns)
-            const Eigen::Vector3d lb = Quaternion{B.q[0], B.q[1], B.q[2], B.q[3]}.rotate_inverse(Eigen::Vector3d(r.lb[0], r.lb[1], r.lb[2]));
-            for (int i = 0; i < 3; ++i) r.lb[i] = lb(i);
-        }
+        r.sa = axis_a != nullptr ? fraction_along(*axis_a, p.on_a + axis_a->radius * m.normal) : 0.0;
+        r.sb = axis_b != nullptr ? fraction_along(*axis_b, p.on_b - axis_b->radius * m.normal) : 0.0;
+        anchor(A, p.on_a, r.sa, r.la);
+        anchor(B, p.on_b, r.sb, r.lb);
         r.sep = p.separation;
         r.slot = -1;
-        // each point its own row (a model sphere or capsule side has no block); a model box's
-        // points solved together, as two rigid bodies' (block_solver.cpp)
-        r.block_size = B.shape != Shape::box ? 1 : k == 0 ? static_cast<std::uint8_t>(m.count) : 0;
+        // each point its own row when a side is a model sphere or capsule (no spin, no block); a
+        // model box's points against a rigid body, a plane or another model's box solved
+        // together, as two rigid bodies' (block_solver.cpp)
+        const bool block = B.shape == Shape::box && (A.model < 0 || A.shape == Shape::box);
+        r.block_size = !block ? 1 : k == 0 ? static_cast<std::uint8_t>(m.count) : 0;
         point_rows_.push_back(r);
     }
 }

@@ -270,6 +270,9 @@ NumericRule contact_rule(const Scene& scene, std::vector<Plane> planes, ContactM
     if (!coordinates.empty()) {
         const ComponentSet c(std::move(coordinates));
         writes = writes | Domain(scene.q, c) | Domain(scene.qd, c);
+        // the warm-start cache of the models' capsules and boxes, kept in their coordinates' slots
+        for (std::size_t f = 0; f < layout->fields.size(); ++f)
+            if (layout->fields[f].rfind("wc_", 0) == 0) writes = writes | Domain(static_cast<FieldId>(f), c);
     }
     auto solver = std::make_shared<Solver>(scene.bodies, planes, std::move(material), options, layout, true, &scene);
     NumericRule r{"contacts", std::move(writes), reads_of(*layout, all), nullptr, layout};

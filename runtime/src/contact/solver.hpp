@@ -28,7 +28,8 @@
 // A model box is a body that moves and spins with its model: G = [J_c; J_ω] (6 × dof) maps q'
 // to its centre's velocity and spin, B_box = M⁻¹ Gᵀ, and A_box = G B_box (6 × 6) is its
 // generalised inverse mass. It is side b of point rows against planes (the static body as side
-// a, the points in the world) and rigid bodies, anchored in its own frame as a rigid body is;
+// a, the points in the world), rigid bodies and other models' spheres, capsules and boxes (a
+// model side a: at its point sa, or, a box, at its lever arm), anchored in its own frame as a rigid body is;
 // a contact at the lever arm r from its centre sees g = (u, r × u) and the share gᵀ A_box g of
 // K⁻¹ along u, and an impulse P reaches q' as B_box (P, r × P). A manifold's points form a
 // block as two rigid bodies' do (K_pq's b-side g_pᵀ A_box g_q; one wrench per pass).
@@ -100,6 +101,8 @@ struct ModelScratch {
     // overwrites them after the solve).
     std::vector<double> M, B, G, MinvGt, S, GB;
     SphereSync sync;
+    bool pooled = false; // it has capsules or boxes: their rows' warm-start cache is kept in
+                         // its coordinates' slots (Solver::cache_home)
 };
 
 struct Row {
@@ -113,9 +116,11 @@ struct Row {
     double jn, jt1, jt2;         // accumulated impulses
     int slot;                    // its warm-start slot in the cache, −1 if none: a contact with
                                  // a slot carried a load in the previous step (it is resting)
+    Index home;                  // find_slots: the component whose slot it is
     double sa = 0, sb = 0;       // a model capsule side: the contact's fraction s along it
     // Point rows (manifolds; file comment):
     bool point = false;
+    std::uint16_t plane_a = 0;   // a model's point row with the static body as side a: its plane + 1
     std::uint32_t feature = 0;   // ManifoldPoint::feature: with b, the warm-start key
     double la[3], lb[3];         // surface points in a's and b's body frames (b's: world for a plane,
                                  // the offset from the point at sb for a model side)
@@ -225,14 +230,15 @@ inline void cross(const double* a, const double* b, double* out) {
     out[2] = a[0] * b[1] - a[1] * b[0];
 }
 
-/// A point row's v_rel = (v_a + ω_a × r_a) − (v_b + ω_b × r_b) (file comment; a model side b
-/// has no spin and moves with its point at sb).
+/// A point row's v_rel = (v_a + ω_a × r_a) − (v_b + ω_b × r_b) (file comment; a model sphere or
+/// capsule side has no spin and moves with its point at its fraction).
 inline void point_velocity(const Row& c, const Body& A, const Body& B, double* dv) {
-    double wa[3], wb[3], t[3];
+    double wa[3], wb[3], t[3], s[3];
     cross(A.w, c.xa, wa);
     cross(B.w, c.xb, wb);
+    const double* va = at_fraction(A, c.sa, true, s);
     const double* vb = at_fraction(B, c.sb, true, t);
-    for (int k = 0; k < 3; ++k) dv[k] = A.v[k] + wa[k] - vb[k] - wb[k];
+    for (int k = 0; k < 3; ++k) dv[k] = va[k] + wa[k] - vb[k] - wb[k];
 }
 
 /// K⁻¹(u) at lever arms ra, rb (file comment), each side's share scaled by sa, sb (Jacobi's
@@ -331,6 +337,7 @@ public:
                 ids_.insert(ids_.end(), p.spheres.begin(), p.spheres.end());
                 n_capsules_ += nk;
                 n_boxes_ += nx;
+                m.pooled = nk + nx > 0;
                 models_.push_back(std::move(m));
             }
             for (ModelScratch& m : models_) {
@@ -401,15 +408,17 @@ private:
     /// capsules (at the closest points), within the margins; against rigid boxes and capsules
     /// point rows (side b).
     void capsule_rows(double dt);
-    /// Point rows of the models' boxes (side b) against planes (the static body as side a) and
-    /// rigid bodies.
+    /// Point rows of the models' boxes (side b) against planes (the static body as side a), rigid
+    /// bodies and other models' spheres, capsules and boxes (side a).
     void model_box_rows(double dt);
     /// detect_shapes' part for the models' spheres: against the rigid bodies (sphere rows with
     /// spheres, point rows with boxes and capsules), other models' spheres and the planes.
     void model_sphere_contacts();
-    /// Point rows of a manifold between rigid body a and model sphere or capsule b (normal from
-    /// b towards a); `axis` (a capsule's, else null) gives each point's fraction s.
-    void add_model_manifold(const Manifold& m, std::uint32_t a, std::uint32_t b, const Capsule* axis);
+    /// Point rows of a manifold between body a (rigid, the static body, or a model's shape) and
+    /// model shape b (normal from b towards a); `axis_a`, `axis_b` (a model capsule's, else null)
+    /// give each point's fraction s along it; `plane`: a is the static body of that plane.
+    void add_model_manifold(const Manifold& m, std::uint32_t a, std::uint32_t b, const Capsule* axis_a, const Capsule* axis_b,
+                            int plane = -1);
 
     /// Point rows from a manifold between scratch bodies a and b (b = the static body and
     /// `plane` its plane for a plane).
@@ -421,6 +430,16 @@ private:
     /// The warm-start key of a row: its partner (body + 1, or −(plane + 1)) and, for a
     /// point row, its feature times 2³².
     double cache_key(const Row& c) const;
+    /// Where a row's warm start is kept: `components` components from `first` (side a's own, or
+    /// a model's coordinates, pooled, for a row whose side a has no component), the slot counter
+    /// of store_cache, and its key.
+    struct CacheHome {
+        const Index* first = nullptr;
+        std::size_t components = 0, counter = 0;
+        double key = 0;
+    };
+    /// False for a row that is not cached (a model capsule's sphere rows).
+    bool cache_home(const Row& c, CacheHome& h) const;
     struct Slot {
         FieldId partner, jn, jtx, jty, jtz;
     };
@@ -487,13 +506,14 @@ private:
     void model_wrench(const Body& X, const double* force, const double* moment, std::vector<Body>& B, bool position);
     /// m.dq added to its q' (q when `position`), and every point of the model moved with it.
     void follow_model(ModelScratch& m, std::vector<Body>& B, bool position);
-    /// K⁻¹ along u at lever arms ra, rb (point_inverse_mass, or with a model box as side b).
+    /// K⁻¹ along u at lever arms ra, rb (point_inverse_mass, or with a model box as side b, and
+    /// side a rigid or another model's box).
     double point_k(const Body& A, const Body& B, const double* ra, const double* rb, const double* u, double sa, double sb) const {
         if (!is_model_box(B)) return point_inverse_mass(A, B, ra, rb, u, sa, sb);
-        double ua[3], g[6] = {u[0], u[1], u[2], 0, 0, 0};
-        cross(ra, u, ua);
+        double h[6] = {u[0], u[1], u[2], 0, 0, 0}, g[6] = {u[0], u[1], u[2], 0, 0, 0};
+        cross(ra, u, h + 3);
         cross(rb, u, g + 3);
-        return sa * (A.im + quad(A.ii, ua)) + sb * model_box_k(B, g, g);
+        return sa * (is_model_box(A) ? model_box_k(A, h, h) : A.im + quad(A.ii, h + 3)) + sb * model_box_k(B, g, g);
     }
     /// Whether the position passes are linear (linear_positions.cpp): Gauss–Seidel in a world
     /// of rigid bodies with shapes and no models.
@@ -568,7 +588,7 @@ private:
     };
     std::vector<ItemBodies> item_bodies_;
     std::vector<std::uint32_t> stamp_;
-    std::vector<std::uint32_t> slots_used_; // store_cache: the slots each body has filled
+    std::vector<std::uint32_t> slots_used_; // store_cache: the slots each body (then each model's pool) has filled
     std::vector<std::uint8_t> taken_;
     std::vector<std::int64_t> sorted_;
     std::vector<WideGroup> groups_;
