@@ -623,6 +623,13 @@ void Solver::collisions(double dt) {
             if (c.block >= 0) { // a manifold's points together (solve_lcp)
                 Block& k = blocks_[static_cast<std::size_t>(c.block)];
                 const std::size_t m = k.count;
+                // a manifold resting at every point (each carried a load: a cache slot) has no impact
+                bool resting = true;
+                for (std::size_t j = 0; j < m; ++j) resting = resting && rows_[i + j].slot >= 0;
+                if (resting) {
+                    i += m - 1;
+                    continue;
+                }
                 double vn[4] = {0, 0, 0, 0}, target[4] = {0, 0, 0, 0}, x[4];
                 bool hit = false;
                 for (std::size_t j = 0; j < m; ++j) {
@@ -650,8 +657,9 @@ void Solver::collisions(double dt) {
                 if (l1 != 0 || l2 != 0) apply_central(k, l1, l2, 0, bodies_);
                 continue;
             }
+            if (c.slot >= 0) continue; // resting
             const double vn = normal_velocity(c, A, B);
-            if (c.slot >= 0 || vn >= 0 || c.sep + vn * dt >= 0) continue;
+            if (vn >= 0 || c.sep + vn * dt >= 0) continue;
             const double e = curve(material_.restitution, -vn, true);
             if (e == 0) continue;
             any = true;
