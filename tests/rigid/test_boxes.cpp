@@ -10,6 +10,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <functional>
 #include <random>
 #include <span>
 #include <string>
@@ -358,44 +359,59 @@ TEST_CASE("a pile of boxes, capsules and spheres settles between walls, the same
     }
 }
 
-// Catches: a lane that reads one side's inverse mass or inertia for the other's (every box of
-// the scene below weighs 1 kg, so there it cannot show), or mixes up the lanes' bodies.
-TEST_CASE("four manifolds at once in SIMD lanes give the bits of one at a time, bodies of unequal masses", "[contact][boxes][wide]") {
-    // 48 boxes of 0.25 to 4 kg and three shapes, turned at random, dropped into a walled box.
-    Registry reg;
-    std::vector<RigidBody> bodies;
-    std::vector<RigidInit> init;
-    std::mt19937 rng(2026);
-    std::uniform_real_distribution<double> u(-1, 1);
-    std::normal_distribution<double> gauss;
-    const double masses[4] = {0.25, 1, 4, 2}, heights[3] = {0.05, 0.02, 0.035};
-    for (int i = 0; i < 4; ++i)
-        for (int j = 0; j < 3; ++j)
-            for (int k = 0; k < 4; ++k) {
-                const std::size_t n = init.size();
-                reg.add("b" + std::to_string(n));
-                bodies.push_back(RigidBody::solid_box(masses[n % 4], {0.05, heights[n % 3], 0.04}));
-                init.push_back(at({0.1 + 0.12 * i + 0.01 * u(rng), 0.06 + 0.12 * j, 0.1 + 0.12 * k + 0.01 * u(rng)},
-                                  Quaternion{gauss(rng), gauss(rng), gauss(rng), gauss(rng)}.normalized()));
-            }
-    const World w0 = make_rigid_world(reg, bodies, init, contact_cache_fields(32));
-    const std::vector<Plane> planes = phynjo::test::box_walls(0.6);
-    const ContactMaterial mat{restitution_curve(0.2, 0.2), constant_curve(0.5)};
-    auto run = [&](bool wide) {
+/// A pile for the lanes tests: boxes on a 4 × layers × 4 lattice 0.12 m apart, jittered and
+/// turned at random (seed), `body(n)` the n-th box.
+struct LanePile {
+    World w0;
+    std::vector<Plane> planes = phynjo::test::box_walls(0.6);
+    LanePile(unsigned seed, int layers, const std::function<RigidBody(std::size_t)>& body) : w0(make(seed, layers, body)) {}
+    static World make(unsigned seed, int layers, const std::function<RigidBody(std::size_t)>& body) {
+        Registry reg;
+        std::vector<RigidBody> bodies;
+        std::vector<RigidInit> init;
+        std::mt19937 rng(seed);
+        std::uniform_real_distribution<double> u(-1, 1);
+        std::normal_distribution<double> gauss;
+        for (int i = 0; i < 4; ++i)
+            for (int j = 0; j < layers; ++j)
+                for (int k = 0; k < 4; ++k) {
+                    reg.add("b" + std::to_string(init.size()));
+                    bodies.push_back(body(init.size()));
+                    init.push_back(at({0.1 + 0.12 * i + 0.01 * u(rng), 0.06 + 0.12 * j, 0.1 + 0.12 * k + 0.01 * u(rng)},
+                                      Quaternion{gauss(rng), gauss(rng), gauss(rng), gauss(rng)}.normalized()));
+                }
+        return make_rigid_world(reg, bodies, init, contact_cache_fields(32));
+    }
+    /// The pile dropped for `checkpoints` × `steps` steps, in lanes or one at a time: the
+    /// world's hash and the boxes faster than 0.05 m/s at each checkpoint, and the end.
+    std::tuple<std::vector<std::uint64_t>, World, std::vector<int>> run(bool wide, int checkpoints, int steps) const {
         ContactOptions o;
         o.velocity_iterations = 20;
         o.wide = wide;
         World w = w0;
+        const ContactMaterial mat{restitution_curve(0.2, 0.2), constant_curve(0.5)};
         Stepper s(rigid_contact_step(Force3D::gravity(g), all_bodies(w), planes, mat, o, w.layout_ptr()));
         std::vector<std::uint64_t> hashes;
-        for (int k = 0; k < 6; ++k) {
-            s.run(w, 1.0 / 240, 40);
+        std::vector<int> moving;
+        for (int k = 0; k < checkpoints; ++k) {
+            s.run(w, 1.0 / 240, steps);
             hashes.push_back(w.hash());
+            int m = 0;
+            for (Index i = 0; i < w.size(); ++i) m += velocity(w, i).norm() > 0.05 ? 1 : 0;
+            moving.push_back(m);
         }
-        return std::pair{hashes, w};
-    };
-    const auto [wide, end] = run(true);
-    const auto [one, end_one] = run(false);
+        return {hashes, w, moving};
+    }
+};
+
+// Catches: a lane that reads one side's inverse mass or inertia for the other's (every box of
+// the scene below weighs 1 kg, so there it cannot show), or mixes up the lanes' bodies.
+TEST_CASE("four manifolds at once in SIMD lanes give the bits of one at a time, bodies of unequal masses", "[contact][boxes][wide]") {
+    // 48 boxes of 0.25 to 4 kg and three shapes, turned at random, dropped into a walled box.
+    const double masses[4] = {0.25, 1, 4, 2}, heights[3] = {0.05, 0.02, 0.035};
+    const LanePile pile(2026, 3, [&](std::size_t n) { return RigidBody::solid_box(masses[n % 4], {0.05, heights[n % 3], 0.04}); });
+    const auto [wide, end, moving] = pile.run(true, 6, 40);
+    const auto [one, end_one, moving_one] = pile.run(false, 6, 40);
     for (std::size_t k = 0; k < wide.size(); ++k) {
         INFO("after " << static_cast<double>(k + 1) / 6 << " s");
         CHECK(wide[k] == one[k]);
@@ -404,7 +420,7 @@ TEST_CASE("four manifolds at once in SIMD lanes give the bits of one at a time, 
     double top = 0;
     for (Index i = 0; i < end.size(); ++i) top = std::max(top, position(end, i).y());
     CHECK(top < 0.28);
-    CHECK(max_penetration(end, all_bodies(end), planes) < 1e-3);
+    CHECK(max_penetration(end, all_bodies(end), pile.planes) < 1e-3);
 }
 
 // Catches: a lane of the wide solver (wide_solver.cpp) that computes anything its block would
@@ -414,43 +430,9 @@ TEST_CASE("four manifolds at once in SIMD lanes give the bits of one at a time, 
 TEST_CASE("four manifolds at once in SIMD lanes give the bits of one at a time", "[contact][boxes][wide]") {
     // 96 cubes and flat boxes turned at random, dropped into a walled box: blocks of 2, 3 and
     // 4 points, full sets, last sets and enumerations, impacts and resting piles.
-    Registry reg;
-    std::vector<RigidBody> bodies;
-    std::vector<RigidInit> init;
-    std::mt19937 rng(37);
-    std::uniform_real_distribution<double> u(-1, 1);
-    std::normal_distribution<double> gauss;
-    for (int i = 0; i < 4; ++i)
-        for (int j = 0; j < 6; ++j)
-            for (int k = 0; k < 4; ++k) {
-                reg.add("b" + std::to_string(init.size()));
-                const double flat = init.size() % 4 == 0 ? 0.02 : 0.05;
-                bodies.push_back(RigidBody::solid_box(1, {0.05, flat, 0.05}));
-                init.push_back(at({0.1 + 0.12 * i + 0.01 * u(rng), 0.06 + 0.12 * j, 0.1 + 0.12 * k + 0.01 * u(rng)},
-                                  Quaternion{gauss(rng), gauss(rng), gauss(rng), gauss(rng)}.normalized()));
-            }
-    const World w0 = make_rigid_world(reg, bodies, init, contact_cache_fields(32));
-    const std::vector<Plane> planes = phynjo::test::box_walls(0.6);
-    const ContactMaterial mat{restitution_curve(0.2, 0.2), constant_curve(0.5)};
-    auto run = [&](bool wide) {
-        ContactOptions o;
-        o.velocity_iterations = 20;
-        o.wide = wide;
-        World w = w0;
-        Stepper s(rigid_contact_step(Force3D::gravity(g), all_bodies(w), planes, mat, o, w.layout_ptr()));
-        std::vector<std::uint64_t> hashes;
-        std::vector<int> moving; // boxes faster than 0.05 m/s at each checkpoint
-        for (int k = 0; k < 8; ++k) {
-            s.run(w, 1.0 / 240, 60);
-            hashes.push_back(w.hash());
-            int m = 0;
-            for (Index i = 0; i < w.size(); ++i) m += velocity(w, i).norm() > 0.05 ? 1 : 0;
-            moving.push_back(m);
-        }
-        return std::tuple{hashes, w, moving};
-    };
-    const auto [wide, end, moving] = run(true);
-    const auto [one, end_one, moving_one] = run(false);
+    const LanePile pile(37, 6, [](std::size_t n) { return RigidBody::solid_box(1, {0.05, n % 4 == 0 ? 0.02 : 0.05, 0.05}); });
+    const auto [wide, end, moving] = pile.run(true, 8, 60);
+    const auto [one, end_one, moving_one] = pile.run(false, 8, 60);
     for (std::size_t k = 0; k < wide.size(); ++k) {
         INFO("after " << 0.25 * static_cast<double>(k + 1) << " s");
         CHECK(wide[k] == one[k]);
@@ -472,7 +454,7 @@ TEST_CASE("four manifolds at once in SIMD lanes give the bits of one at a time",
         resting += moving[k] <= 2 ? 1 : 0;
         most = std::max(most, moving[k]);
     }
-    const double deepest = max_penetration(end, all_bodies(end), planes);
+    const double deepest = max_penetration(end, all_bodies(end), pile.planes);
     INFO("top " << top << " m, max speed " << vmax << " m/s at the end; boxes faster than 0.05 m/s at 1.25, 1.5, 1.75, 2 s: "
                 << moving[4] << ", " << moving[5] << ", " << moving[6] << ", " << moving[7] << "; deepest overlap " << deepest << " m");
     CHECK(top < 0.6);
