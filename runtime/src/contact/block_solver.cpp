@@ -308,11 +308,13 @@ void Solver::fill_block(const Body& A, const Body& B, const double* n, const dou
             for (std::size_t q = 0; q < m; ++q) {
                 const double gp[6] = {n[0], n[1], n[2], ub[p][0], ub[p][1], ub[p][2]};
                 const double gq[6] = {n[0], n[1], n[2], ub[q][0], ub[q][1], ub[q][2]};
-                double ka = A.im + dot(ua[p], ia[q]);
+                double ka;
                 if (is_model_box(A)) { // another model's box as side a: g = (n, r_a × n)
                     const double hp[6] = {n[0], n[1], n[2], ua[p][0], ua[p][1], ua[p][2]};
                     const double hq[6] = {n[0], n[1], n[2], ua[q][0], ua[q][1], ua[q][2]};
                     ka = model_box_k(A, hp, hq);
+                } else {
+                    ka = A.im + dot(ua[p], ia[q]);
                 }
                 k.k[4 * p + q] = sa * ka + sb * model_box_k(B, gp, gq);
             }

@@ -123,13 +123,6 @@ void Solver::apply_point(const Row& c, const double* p, std::vector<Body>& B) {
     for (int k = 0; k < 3; ++k) Bb.w[k] -= i[k];
 }
 
-double Solver::cache_key(const Row& c) const {
-    const double partner = c.plane >= 0 ? -(c.plane + 1.0) : ids_[c.b] + 1.0;
-    if (!c.point) return partner;
-    const double f = 4294967296.0 * c.feature;
-    return partner > 0 ? partner + f : partner - f;
-}
-
 double Solver::geometry(const Row& c, double* n) const {
     if (c.point) { // the manifold's normal, fixed for the step; the separation at the anchors
         double xa[3], xb[3];
@@ -198,12 +191,7 @@ void Solver::correct_positions() {
                 if (A.model >= 0 || Bb.model >= 0) { // a model side: uᵀ A(s) u, and its correction through B(s)
                     const double* arm = is_model_box(Bb) ? rb : nullptr;
                     if (A.model >= 0) { // both sides models (a model box's row against another model)
-                        const double* arm_a = is_model_box(A) ? ra : nullptr;
-                        const double k_inv = linear_inverse_mass(A, n, c.sa, arm_a) + linear_inverse_mass(Bb, n, c.sb, arm);
-                        if (!(k_inv > kSingularInverseMass * (inverse_mass_scale(A) + inverse_mass_scale(Bb)))) continue;
-                        const double corr = beta * depth / k_inv;
-                        position_impulse(A, c.a, corr, n, jacobi, c.sa, arm_a);
-                        position_impulse(Bb, c.b, -corr, n, jacobi, c.sb, arm);
+                        correct_model_sides(c, n, beta * depth, is_model_box(A) ? ra : nullptr, arm, jacobi);
                         continue;
                     }
                     const double k_inv = A.im + quad(A.ii, ua) + linear_inverse_mass(Bb, n, c.sb, arm);
@@ -251,12 +239,7 @@ void Solver::correct_positions() {
                 continue;
             }
             if (has_model(c)) {
-                const double wsum = linear_inverse_mass(A, n, c.sa) + linear_inverse_mass(Bb, n, c.sb);
-                if (!(wsum > kSingularInverseMass * (inverse_mass_scale(A) + inverse_mass_scale(Bb)))) continue;
-                any = true;
-                const double corr = beta * depth / wsum;
-                position_impulse(A, c.a, corr, n, jacobi, c.sa);
-                if (c.plane < 0) position_impulse(Bb, c.b, -corr, n, jacobi, c.sb);
+                any = correct_model_sides(c, n, beta * depth, nullptr, nullptr, jacobi) || any;
                 continue;
             }
             any = true;
@@ -284,6 +267,18 @@ void Solver::correct_positions() {
         }
         if (!any) break;
     }
+}
+
+bool Solver::correct_model_sides(const Row& c, const double* n, double target, const double* arm_a, const double* arm_b,
+                                 bool jacobi) {
+    const Body& A = bodies_[c.a];
+    const Body& B = bodies_[c.b];
+    const double wsum = linear_inverse_mass(A, n, c.sa, arm_a) + linear_inverse_mass(B, n, c.sb, arm_b);
+    if (!(wsum > kSingularInverseMass * (inverse_mass_scale(A) + inverse_mass_scale(B)))) return false;
+    const double corr = target / wsum;
+    position_impulse(A, c.a, corr, n, jacobi, c.sa, arm_a);
+    if (c.plane < 0) position_impulse(B, c.b, -corr, n, jacobi, c.sb, arm_b);
+    return true;
 }
 
 void Solver::position_impulse(const Body& X, std::size_t index, double corr, const double* n, bool jacobi, double s,
@@ -506,28 +501,23 @@ void Solver::side_impulse(Body& X, const double* p, const double* u, double r, d
 
 bool Solver::cache_home(const Row& c, CacheHome& h) const {
     const std::size_t stat = ids_.size();
-    if (c.a < stat && c.b <= stat) { // a rigid body's or model sphere's, against one or a plane
-        h.first = &ids_[c.a];
-        h.components = 1;
-        h.counter = c.a;
-        h.key = cache_key(c);
-        return true;
-    }
-    // A model capsule's rows that are not a manifold's keep no cache (their point moves along
-    // the segment, and nothing names which end they are).
-    if (!c.point) return false;
-    // The other side's tag: a component's index + 1, a plane's −(index + 1), or, a model's
-    // capsule or box (no component), the count of components + its place among them.
+    // The other side's tag: a component's index + 1, a plane's −(index + 1) (b's plane, or
+    // plane_a for a's), or, a model's capsule or box (no component), the count of components +
+    // its place among them; and a key: the tag, a point row's feature times 2³² beyond it.
     auto tag = [&](std::uint32_t x) {
-        if (x == stat) return -static_cast<double>(c.plane_a); // (side a: the plane's index + 1)
+        if (x == stat) return x == c.b ? -(c.plane + 1.0) : -static_cast<double>(c.plane_a);
         if (x < stat) return ids_[x] + 1.0;
         return static_cast<double>(layout_->components.size() + (x - stat));
     };
     auto keyed = [&](double partner) {
+        if (!c.point) return partner;
         const double f = 4294967296.0 * c.feature;
         return partner > 0 ? partner + f : partner - f;
     };
-    if (c.a < stat) { // side a's component, the model capsule or box b tagged
+    // A model capsule's rows that are not a manifold's keep no cache (their point moves along
+    // the segment, and nothing names which end they are).
+    if (!c.point && (c.a > stat || c.b > stat)) return false;
+    if (c.a < stat) { // side a's component, b tagged
         h.first = &ids_[c.a];
         h.components = 1;
         h.counter = c.a;
@@ -794,7 +784,7 @@ void Solver::store_cache(World& w) {
     for (const Slot& s : slots_) {
         for (Index i : ids_) w.at(s.partner, i) = 0;
         for (const ModelScratch& m : models_)
-            if (m.pooled)
+            if (!m.placed.ends.empty() || !m.placed.boxes.empty()) // its capsules' and boxes' pool
                 for (Index i : m.placed.coordinates) w.at(s.partner, i) = 0;
     }
     // Rows are grouped by body a (pairs sorted by a, then the planes of each body in order),

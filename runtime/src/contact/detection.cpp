@@ -107,28 +107,28 @@ void Solver::detect(const World& w, double dt) {
     }
 }
 
+double Solver::model_capsule_margin(const Body& b, double dt) const {
+    if (options_.margin >= 0) return 0.5 * options_.margin;
+    const double v = std::sqrt(std::max(dot(b.v, b.v), dot(b.v2, b.v2)));
+    return std::min(b.r, std::max(2 * v * dt, std::max(options_.slop, 0.02 * b.r)));
+}
+
+double Solver::model_box_margin(const Body& X, double dt) const {
+    if (options_.margin >= 0) return 0.5 * options_.margin;
+    const double size = std::min({X.h[0], X.h[1], X.h[2]});
+    const double speed = std::sqrt(dot(X.v, X.v)) + std::sqrt(dot(X.w, X.w)) * std::sqrt(dot(X.h, X.h));
+    return std::min(size, std::max(2 * speed * dt, std::max(options_.slop, 0.02 * size)));
+}
+
 void Solver::model_box_rows(double dt) {
     const bool uniform = options_.margin >= 0;
     const auto stat = static_cast<std::uint32_t>(ids_.size());
     Manifold m;
     const std::uint32_t first_capsule = stat + 1, first = first_capsule + static_cast<std::uint32_t>(n_capsules_);
-    // The margin of a model box as detect's of a rigid one, at its fastest corner; a model
-    // capsule's as capsule_rows'.
-    auto box_margin = [&](const Body& X) {
-        if (uniform) return 0.5 * options_.margin;
-        const double size = std::min({X.h[0], X.h[1], X.h[2]});
-        const double speed = std::sqrt(dot(X.v, X.v)) + std::sqrt(dot(X.w, X.w)) * std::sqrt(dot(X.h, X.h));
-        return std::min(size, std::max(2 * speed * dt, std::max(options_.slop, 0.02 * size)));
-    };
-    auto capsule_margin = [&](const Body& b) {
-        if (uniform) return 0.5 * options_.margin;
-        const double v = std::sqrt(std::max(dot(b.v, b.v), dot(b.v2, b.v2)));
-        return std::min(b.r, std::max(2 * v * dt, std::max(options_.slop, 0.02 * b.r)));
-    };
     for (std::uint32_t k = first; k < first + n_boxes_; ++k) {
         const Body& X = bodies_[k];
         const double reach = std::sqrt(dot(X.h, X.h));
-        const double mx = box_margin(X);
+        const double mx = model_box_margin(X, dt);
         for (std::size_t i = 0; i < planes_.size(); ++i) { // the static body as side a, at the plane's points
             if (!collide_plane(X, planes_[i], mx, m)) continue;
             m.flip(); // the model box is side b
@@ -138,7 +138,7 @@ void Solver::model_box_rows(double dt) {
         // Rigid bodies and other models' spheres (side a; normal from the model box towards them).
         for (std::uint32_t j = 0; j < stat; ++j) {
             const Body& A = bodies_[j];
-            if (A.model >= 0 && A.model == X.model) continue; // one model: no pair
+            if (A.model == X.model) continue; // one model: no pair (a rigid body's is −1)
             const double ma = uniform ? 0.5 * options_.margin : margins_[j];
             // a bounding sphere of each: enough to skip the far ones
             const double ra = A.shape == Shape::sphere ? A.r : std::sqrt(dot(A.h, A.h)) + A.r;
@@ -154,7 +154,7 @@ void Solver::model_box_rows(double dt) {
             const Body& A = bodies_[j];
             if (A.model == X.model) continue;
             const Capsule ca = model_capsule(A);
-            const double ma = capsule_margin(A);
+            const double ma = model_capsule_margin(A, dt);
             const Eigen::Vector3d mid = 0.5 * (ca.p0 + ca.p1);
             const double within = 0.5 * (ca.p1 - ca.p0).norm() + ca.radius + reach + ma + mx;
             if ((mid - c).squaredNorm() > within * within) continue;
@@ -166,7 +166,7 @@ void Solver::model_box_rows(double dt) {
         for (std::uint32_t j = first; j < k; ++j) {
             const Body& A = bodies_[j];
             if (A.model == X.model) continue;
-            const double ma = box_margin(A);
+            const double ma = model_box_margin(A, dt);
             const double d[3] = {A.p[0] - c.x(), A.p[1] - c.y(), A.p[2] - c.z()};
             const double within = std::sqrt(dot(A.h, A.h)) + reach + ma + mx;
             if (dot(d, d) > within * within) continue;
@@ -179,12 +179,6 @@ void Solver::model_box_rows(double dt) {
 void Solver::capsule_rows(double dt) {
     const bool uniform = options_.margin >= 0;
     const auto stat = static_cast<std::uint32_t>(ids_.size());
-    // The margin of a capsule as detect's of a sphere, at the faster end.
-    auto margin_of = [&](const Body& b) {
-        if (uniform) return 0.5 * options_.margin;
-        const double v = std::sqrt(std::max(dot(b.v, b.v), dot(b.v2, b.v2)));
-        return std::min(b.r, std::max(2 * v * dt, std::max(options_.slop, 0.02 * b.r)));
-    };
     Manifold m;
     auto add = [&](std::uint32_t a, std::uint32_t b, int plane, const Capsule& ca, const Capsule* cb) {
         for (int i = 0; i < m.count; ++i) {
@@ -199,7 +193,7 @@ void Solver::capsule_rows(double dt) {
     for (std::uint32_t k = first; k < first + n_capsules_; ++k) {
         const Body& A = bodies_[k];
         const Capsule ca = model_capsule(A);
-        const double ma = margin_of(A);
+        const double ma = model_capsule_margin(A, dt);
         AABB box{ca.p0.cwiseMin(ca.p1) - Eigen::Vector3d::Constant(ca.radius + ma),
                  ca.p0.cwiseMax(ca.p1) + Eigen::Vector3d::Constant(ca.radius + ma)};
         for (std::size_t i = 0; i < planes_.size(); ++i) {
@@ -229,7 +223,7 @@ void Solver::capsule_rows(double dt) {
             const Body& B = bodies_[j];
             if (B.model == A.model) continue;
             const Capsule cb = model_capsule(B);
-            capsule_capsule(ca, cb, ma + margin_of(B), m);
+            capsule_capsule(ca, cb, ma + model_capsule_margin(B, dt), m);
             add(k, j, -1, ca, &cb);
         }
     }

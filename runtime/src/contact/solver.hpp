@@ -101,8 +101,6 @@ struct ModelScratch {
     // overwrites them after the solve).
     std::vector<double> M, B, G, MinvGt, S, GB;
     SphereSync sync;
-    bool pooled = false; // it has capsules or boxes: their rows' warm-start cache is kept in
-                         // its coordinates' slots (Solver::cache_home)
 };
 
 struct Row {
@@ -337,7 +335,6 @@ public:
                 ids_.insert(ids_.end(), p.spheres.begin(), p.spheres.end());
                 n_capsules_ += nk;
                 n_boxes_ += nx;
-                m.pooled = nk + nx > 0;
                 models_.push_back(std::move(m));
             }
             for (ModelScratch& m : models_) {
@@ -411,6 +408,10 @@ private:
     /// Point rows of the models' boxes (side b) against planes (the static body as side a), rigid
     /// bodies and other models' spheres, capsules and boxes (side a).
     void model_box_rows(double dt);
+    /// The speculative margins of a model capsule (detect's of a sphere, at its faster end) and
+    /// of a model box (detect's of a rigid box, at its fastest corner).
+    double model_capsule_margin(const Body& b, double dt) const;
+    double model_box_margin(const Body& X, double dt) const;
     /// detect_shapes' part for the models' spheres: against the rigid bodies (sphere rows with
     /// spheres, point rows with boxes and capsules), other models' spheres and the planes.
     void model_sphere_contacts();
@@ -427,9 +428,6 @@ private:
     void anchors(const Row& c, double* xa, double* xb) const;
     /// A point row's impulse P on a (−P on b) at its lever arms.
     void apply_point(const Row& c, const double* p, std::vector<Body>& B);
-    /// The warm-start key of a row: its partner (body + 1, or −(plane + 1)) and, for a
-    /// point row, its feature times 2³².
-    double cache_key(const Row& c) const;
     /// Where a row's warm start is kept: `components` components from `first` (side a's own, or
     /// a model's coordinates, pooled, for a row whose side a has no component), the slot counter
     /// of store_cache, and its key.
@@ -449,6 +447,10 @@ private:
     void correct_positions();
     /// Position correction corr·n on one side of a row with a model sphere (rigid or model); at
     /// fraction s of a model capsule, applied at once (also under Jacobi: its points differ).
+    /// The position correction `target` (β × depth beyond the slop) of a row with a model side
+    /// (a sphere row, or a point row between two models) through both sides' uᵀ A u along n
+    /// (at the lever arms arm_a, arm_b of model boxes); false if they cannot move along n.
+    bool correct_model_sides(const Row& c, const double* n, double target, const double* arm_a, const double* arm_b, bool jacobi);
     void position_impulse(const Body& X, std::size_t index, double corr, const double* n, bool jacobi, double s,
                           const double* arm = nullptr);
     void setup_rows(double dt);
