@@ -27,11 +27,15 @@ struct ClipVertex {
 /// Sutherland–Hodgman against one side plane {p : u·(p − c) ≤ h}, named `line`.
 int clip(const ClipVertex* in, int n, ClipVertex* out, const Eigen::Vector3d& u, const Eigen::Vector3d& c, double h,
          int line) {
+    // Each vertex's distance once (it is the start of one edge and the end of another).
+    double dist[8];
+    for (int k = 0; k < n; ++k) dist[k] = u.dot(in[k].p - c) - h;
     int m = 0;
     for (int k = 0; k < n; ++k) {
+        const int k1 = k + 1 == n ? 0 : k + 1;
         const ClipVertex& p = in[k];
-        const ClipVertex& q = in[(k + 1) % n];
-        const double dp = u.dot(p.p - c) - h, dq = u.dot(q.p - c) - h;
+        const ClipVertex& q = in[k1];
+        const double dp = dist[k], dq = dist[k1];
         const bool pin = dp <= 0, qin = dq <= 0;
         if (pin) out[m++] = p;
         if (pin != qin) {

@@ -118,6 +118,7 @@ void UniformGrid::reserve(std::size_t boxes, std::size_t pairs) {
     first_.reserve(boxes + 1);
     keys_.reserve(boxes);
     sorted_.reserve(boxes);
+    by_cell_.reserve(boxes);
     scratch_.reserve(boxes);
     table_keys_.reserve(table_bound(boxes));
     table_begin_.reserve(table_bound(boxes));
@@ -209,13 +210,13 @@ void UniformGrid::find_pairs(std::span<const AABB> boxes, std::vector<CandidateP
         // z + 1) — intersects' six comparisons without branches (most neighbours miss on one);
         // then the pairs in (a, b) order by a counting sort on a, each a's few b's by
         // insertion, as the 27-cell scan per box would list them.
+        // The boxes copied in cell order: a cell's neighbours are then read in runs.
         found_.clear();
-        auto test = [&](Index i, Index j) { // i < j
-            const AABB& a = boxes[i];
-            const AABB& c = boxes[j];
-            const bool hit = (a.hi.x() >= c.lo.x()) & (c.hi.x() >= a.lo.x()) & (a.hi.y() >= c.lo.y()) &
-                             (c.hi.y() >= a.lo.y()) & (a.hi.z() >= c.lo.z()) & (c.hi.z() >= a.lo.z());
-            if (hit) found_.push_back({i, j});
+        by_cell_.resize(n);
+        for (std::size_t k = 0; k < n; ++k) by_cell_[k] = boxes[sorted_[k]];
+        auto hit = [](const AABB& a, const AABB& c) {
+            return (a.hi.x() >= c.lo.x()) & (c.hi.x() >= a.lo.x()) & (a.hi.y() >= c.lo.y()) & (c.hi.y() >= a.lo.y()) &
+                   (a.hi.z() >= c.lo.z()) & (c.hi.z() >= a.lo.z());
         };
         static constexpr int kRows[4][2] = {{1, 0}, {-1, 1}, {0, 1}, {1, 1}}; // (dy, dz) of the rows of three
         for (std::int64_t z = 0; z < ext[2]; ++z)
@@ -225,13 +226,17 @@ void UniformGrid::find_pairs(std::span<const AABB> boxes, std::vector<CandidateP
                     const std::uint32_t b = table_begin_[s], e = b + table_count_[s];
                     if (b == e) continue;
                     for (std::uint32_t k = b; k < e; ++k) // a cell lists its boxes in index order
-                        for (std::uint32_t m = k + 1; m < e; ++m) test(sorted_[k], sorted_[m]);
+                        for (std::uint32_t m = k + 1; m < e; ++m)
+                            if (hit(by_cell_[k], by_cell_[m])) found_.push_back({sorted_[k], sorted_[m]});
                     auto run = [&](std::uint32_t f, std::uint32_t g) {
-                        for (std::uint32_t k = b; k < e; ++k)
-                            for (std::uint32_t m = f; m < g; ++m) {
-                                const Index i = sorted_[k], j = sorted_[m];
-                                test(std::min(i, j), std::max(i, j));
-                            }
+                        for (std::uint32_t k = b; k < e; ++k) {
+                            const AABB a = by_cell_[k];
+                            for (std::uint32_t m = f; m < g; ++m)
+                                if (hit(a, by_cell_[m])) {
+                                    const Index i = sorted_[k], j = sorted_[m];
+                                    found_.push_back({std::min(i, j), std::max(i, j)});
+                                }
+                        }
                     };
                     if (x + 1 < ext[0]) run(e, table_begin_[s + 1] + table_count_[s + 1]);
                     const std::int64_t x0 = std::max<std::int64_t>(x - 1, 0), x1 = std::min<std::int64_t>(x + 1, ext[0] - 1);

@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 
 namespace phynjo::runtime::contact_detail {
@@ -227,16 +228,44 @@ void clamp_disk_lanes(V& n1, V& n2, const V& limit) {
 struct LaneBodies {
     V av[3], aw[3], bv[3], bw[3], aii[6], bii[6], aim, bim;
     LaneBodies(const std::vector<Body>& bodies, const WideGroup& g) {
-        const Body* A[4] = {&bodies[g.a[0]], &bodies[g.a[1]], &bodies[g.a[2]], &bodies[g.a[3]]};
-        const Body* B[4] = {&bodies[g.b[0]], &bodies[g.b[1]], &bodies[g.b[2]], &bodies[g.b[3]]};
-        for (int d = 0; d < 3; ++d) {
-            av[d] = V{A[0]->v[d], A[1]->v[d], A[2]->v[d], A[3]->v[d]};
-            aw[d] = V{A[0]->w[d], A[1]->w[d], A[2]->w[d], A[3]->w[d]};
-            bv[d] = V{B[0]->v[d], B[1]->v[d], B[2]->v[d], B[3]->v[d]};
-            bw[d] = V{B[0]->w[d], B[1]->w[d], B[2]->w[d], B[3]->w[d]};
-        }
+        gather(bodies, g.a, av, aw);
+        gather(bodies, g.b, bv, bw);
         for (int e = 0; e < 6; ++e) aii[e] = load(g.aii[e]), bii[e] = load(g.bii[e]);
         aim = load(g.aim), bim = load(g.bim);
+    }
+    /// v and ω of four bodies, one lane each: each body's v₀ v₁ v₂ ω₀ and ω₁ ω₂ (p₀ p₁) read
+    /// as two rows of four and transposed (Body keeps v, w, p in a row).
+    static void gather(const std::vector<Body>& bodies, const std::uint32_t* at, V* v, V* w) {
+        static_assert(offsetof(Body, w) == offsetof(Body, v) + 3 * sizeof(double) &&
+                      offsetof(Body, p) == offsetof(Body, w) + 3 * sizeof(double));
+        V r[4], s[4];
+        for (int l = 0; l < 4; ++l) {
+            const double* x = bodies[at[l]].v;
+            r[l] = load(x), s[l] = load(x + 4);
+        }
+        const V t0 = __builtin_shuffle(r[0], r[1], Mask{0, 4, 2, 6}), t1 = __builtin_shuffle(r[0], r[1], Mask{1, 5, 3, 7});
+        const V t2 = __builtin_shuffle(r[2], r[3], Mask{0, 4, 2, 6}), t3 = __builtin_shuffle(r[2], r[3], Mask{1, 5, 3, 7});
+        v[0] = __builtin_shuffle(t0, t2, Mask{0, 1, 4, 5}), v[2] = __builtin_shuffle(t0, t2, Mask{2, 3, 6, 7});
+        v[1] = __builtin_shuffle(t1, t3, Mask{0, 1, 4, 5}), w[0] = __builtin_shuffle(t1, t3, Mask{2, 3, 6, 7});
+        const V u0 = __builtin_shuffle(s[0], s[1], Mask{0, 4, 2, 6}), u1 = __builtin_shuffle(s[0], s[1], Mask{1, 5, 3, 7});
+        const V u2 = __builtin_shuffle(s[2], s[3], Mask{0, 4, 2, 6}), u3 = __builtin_shuffle(s[2], s[3], Mask{1, 5, 3, 7});
+        w[1] = __builtin_shuffle(u0, u2, Mask{0, 1, 4, 5}), w[2] = __builtin_shuffle(u1, u3, Mask{0, 1, 4, 5});
+    }
+    /// gather's inverse: v and ω of the lanes' bodies written back, the static body `fixed` left alone.
+    static void scatter(std::vector<Body>& bodies, const std::uint32_t* at, const V* v, const V* w, std::size_t fixed) {
+        const V t0 = __builtin_shuffle(v[0], v[1], Mask{0, 4, 2, 6}), t1 = __builtin_shuffle(v[0], v[1], Mask{1, 5, 3, 7});
+        const V t2 = __builtin_shuffle(v[2], w[0], Mask{0, 4, 2, 6}), t3 = __builtin_shuffle(v[2], w[0], Mask{1, 5, 3, 7});
+        const V row[4] = {__builtin_shuffle(t0, t2, Mask{0, 1, 4, 5}), __builtin_shuffle(t1, t3, Mask{0, 1, 4, 5}),
+                          __builtin_shuffle(t0, t2, Mask{2, 3, 6, 7}), __builtin_shuffle(t1, t3, Mask{2, 3, 6, 7})};
+        const V p0 = __builtin_shuffle(w[1], w[2], Mask{0, 4, 2, 6}), p1 = __builtin_shuffle(w[1], w[2], Mask{1, 5, 3, 7});
+        // Lane l's ω₁ ω₂: the low (l even) or high half of p0 (l = 0, 2) or p1 (l = 1, 3).
+        auto put = [&](int l, const V& pair, int half) {
+            if (at[l] == fixed) return;
+            double* x = bodies[at[l]].v;
+            store(x, row[l]);
+            std::memcpy(x + 4, reinterpret_cast<const double*>(&pair) + 2 * half, 2 * sizeof(double));
+        };
+        put(0, p0, 0), put(1, p1, 0), put(2, p0, 1), put(3, p1, 1);
     }
     /// The velocity of a's point at the lever arm ra relative to b's at rb (point_velocity):
     /// (v_a + ω_a × r_a) − (v_b + ω_b × r_b).
@@ -272,15 +301,13 @@ struct LaneBodies {
     }
     /// `fixed`: the static body, left at rest.
     void scatter(std::vector<Body>& bodies, const WideGroup& g, std::size_t fixed) const {
-        for (int l = 0; l < 4; ++l) {
-            Body& X = bodies[g.a[l]];
-            for (int d = 0; d < 3; ++d) X.v[d] = av[d][l], X.w[d] = aw[d][l];
-            if (g.b[l] == fixed) continue;
-            Body& Y = bodies[g.b[l]];
-            for (int d = 0; d < 3; ++d) Y.v[d] = bv[d][l], Y.w[d] = bw[d][l];
-        }
+        scatter(bodies, g.a, av, aw, fixed);
+        scatter(bodies, g.b, bv, bw, fixed);
     }
 };
+
+/// Whether every lane is set.
+bool all_lanes(const Mask& m) { return (m[0] & m[1] & m[2] & m[3]) != 0; }
 
 /// solve_lcp's first two tries in each lane of `start`: x from the full set's pseudo-inverse,
 /// y from the last set's padded inverse (zero outside it), r = bias − b; full and last where
@@ -293,6 +320,13 @@ void try_full_and_last(const WideGroup& g, const Mask& start, const V* b, const 
         x[p] = zero;
         for (int q = 0; q < M; ++q) x[p] += load(g.inv[4 * p + q]) * r[q];
         full &= x[p] >= 0;
+    }
+    // Where the full set solves every lane started, the last set would change nothing: the
+    // callers take x where `full`, and `last` only adds lanes of `start`.
+    if (all_lanes(full == start)) {
+        last = full & ~full;
+        for (int p = 0; p < M; ++p) y[p] = zero;
+        return;
     }
     last = start & (load(g.known) != 0); // try_set on the last set, zero terms between its points
     Mask in[M];

@@ -70,6 +70,7 @@ private:
     std::vector<std::uint64_t> table_keys_; // open addressing: cell key (or empty)
     std::vector<std::uint32_t> table_begin_, table_count_;
     std::vector<Index> sorted_;             // boxes grouped by cell
+    std::vector<AABB> by_cell_;             // dense tables: the boxes in sorted_'s order
     std::vector<Index> scratch_;
     std::vector<CandidatePair> found_;      // dense tables: the pairs cell by cell, then sorted
     std::vector<std::uint32_t> first_;      // dense tables: counting sort by the pairs' a
