@@ -83,10 +83,11 @@ void box_box(const OBB& a, const Eigen::Matrix3d& ra, const OBB& b, const Eigen:
     // "OBBTree", 1996): |l| = √(1 − c_ij²), l·a_{i+1} = −c_{i+2,j}, l·a_{i+2} = c_{i+1,j},
     // l·b_{j+1} = c_{i,j+2}, l·b_{j+2} = −c_{i,j+1}, d·l = tₐ_{i+2} c_{i+1,j} − tₐ_{i+1} c_{i+2,j}.
     const Eigen::Vector3d ta = ra.transpose() * d;
+    static constexpr int kNext[3] = {1, 2, 0}, kAfter[3] = {2, 0, 1}; // (k + 1) % 3, (k + 2) % 3
     for (int i = 0; i < 3; ++i) {
-        const int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
+        const int i1 = kNext[i], i2 = kAfter[i];
         for (int j = 0; j < 3; ++j) {
-            const int j1 = (j + 1) % 3, j2 = (j + 2) % 3;
+            const int j1 = kNext[j], j2 = kAfter[j];
             const double len2 = 1 - c(i, j) * c(i, j);
             if (len2 < 1e-12) continue; // parallel edges: the face axes cover them
             const double r = ha(i1) * ac(i2, j) + ha(i2) * ac(i1, j) + hb(j1) * ac(i, j2) + hb(j2) * ac(i, j1);
