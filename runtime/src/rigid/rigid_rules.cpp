@@ -88,6 +88,12 @@ NumericRule kick_force3d(const Force3D& force, const ComponentSet& bodies, doubl
             w.at(kVY, i) += h * im * ft[6 * k + 1];
             w.at(kVZ, i) += h * im * ft[6 * k + 2];
 
+            // No torque on a body with I = c𝟙 (a sphere, a cube): ω × Iω = 0, so ω stays —
+            // exactly, not through the rotation to the body frame and back.
+            const double* tw = &ft[6 * k + 3];
+            if (tw[0] == 0 && tw[1] == 0 && tw[2] == 0 && w.at(kIxx, i) == w.at(kIyy, i) && w.at(kIxx, i) == w.at(kIzz, i) &&
+                w.at(kIxy, i) == 0 && w.at(kIxz, i) == 0 && w.at(kIyz, i) == 0)
+                continue;
             const Quaternion q = orientation(w, i);
             const Eigen::Matrix3d I = body_inertia(w, i), Iinv = body_inverse_inertia(w, i);
             const Eigen::Vector3d tb = q.rotate_inverse(Eigen::Vector3d(ft[6 * k + 3], ft[6 * k + 4], ft[6 * k + 5]));
