@@ -239,9 +239,9 @@ struct LaneBodies {
         static_assert(offsetof(Body, w) == offsetof(Body, v) + 3 * sizeof(double) &&
                       offsetof(Body, p) == offsetof(Body, w) + 3 * sizeof(double));
         V r[4], s[4];
-        for (int l = 0; l < 4; ++l) {
-            const double* x = bodies[at[l]].v;
-            r[l] = load(x), s[l] = load(x + 4);
+        for (int l = 0; l < 4; ++l) { // the bytes of the body (v's row runs on into w and p)
+            const char* x = reinterpret_cast<const char*>(&bodies[at[l]]) + offsetof(Body, v);
+            std::memcpy(&r[l], x, sizeof(V)), std::memcpy(&s[l], x + 4 * sizeof(double), sizeof(V));
         }
         const V t0 = __builtin_shuffle(r[0], r[1], Mask{0, 4, 2, 6}), t1 = __builtin_shuffle(r[0], r[1], Mask{1, 5, 3, 7});
         const V t2 = __builtin_shuffle(r[2], r[3], Mask{0, 4, 2, 6}), t3 = __builtin_shuffle(r[2], r[3], Mask{1, 5, 3, 7});
@@ -261,9 +261,9 @@ struct LaneBodies {
         // Lane l's ω₁ ω₂: the low (l even) or high half of p0 (l = 0, 2) or p1 (l = 1, 3).
         auto put = [&](int l, const V& pair, int half) {
             if (at[l] == fixed) return;
-            double* x = bodies[at[l]].v;
-            store(x, row[l]);
-            std::memcpy(x + 4, reinterpret_cast<const double*>(&pair) + 2 * half, 2 * sizeof(double));
+            char* x = reinterpret_cast<char*>(&bodies[at[l]]) + offsetof(Body, v);
+            std::memcpy(x, &row[l], sizeof(V));
+            std::memcpy(x + 4 * sizeof(double), reinterpret_cast<const char*>(&pair) + 2 * half * sizeof(double), 2 * sizeof(double));
         };
         put(0, p0, 0), put(1, p1, 0), put(2, p0, 1), put(3, p1, 1);
     }
