@@ -306,8 +306,9 @@ struct LaneBodies {
     }
 };
 
-/// Whether every lane is set.
+/// Whether every lane is set; whether any is.
 bool all_lanes(const Mask& m) { return (m[0] & m[1] & m[2] & m[3]) != 0; }
+bool any_lane(const Mask& m) { return (m[0] | m[1] | m[2] | m[3]) != 0; }
 
 /// solve_lcp's first two tries in each lane of `start`: x from the full set's pseudo-inverse,
 /// y from the last set's padded inverse (zero outside it), r = bias − b; full and last where
@@ -503,10 +504,6 @@ void Solver::solve_rows(WideGroup& g) {
     }
     lanes.scatter(bodies_, g, ids_.size());
 }
-
-namespace {
-bool any_lane(const Mask& m) { return (m[0] | m[1] | m[2] | m[3]) != 0; }
-} // namespace
 
 template <int M>
 bool Solver::push_group(WideGroup& g) {
