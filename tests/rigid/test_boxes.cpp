@@ -425,8 +425,10 @@ TEST_CASE("four manifolds at once in SIMD lanes give the bits of one at a time, 
 
 // Catches: a lane of the wide solver (wide_solver.cpp) that computes anything its block would
 // not one at a time — a friction clamp, a twist limit, the normal impulses of the full or the
-// last set, an impulse applied to the wrong body or not stored back — and a colouring that
-// lets two items of a colour share a moving body (their order would then change the bits).
+// last set or of a set its own search finds (the lanes' inverse of K_SS, the order of the
+// sets, the set found not kept as the block's last), an impulse applied to the wrong body or
+// not stored back — and a colouring that lets two items of a colour share a moving body
+// (their order would then change the bits).
 TEST_CASE("four manifolds at once in SIMD lanes give the bits of one at a time", "[contact][boxes][wide]") {
     // 96 cubes and flat boxes turned at random, dropped into a walled box: blocks of 2, 3 and
     // 4 points, full sets, last sets and enumerations, impacts and resting piles.

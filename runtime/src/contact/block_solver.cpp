@@ -28,7 +28,8 @@ void Solver::setup_blocks() {
         double ra[4][3], rb[4][3];
         for (std::size_t j = 0; j < m; ++j)
             for (int d = 0; d < 3; ++d) ra[j][d] = rows_[i + j].xa[d], rb[j][d] = rows_[i + j].xb[d];
-        Block b;
+        const std::size_t index = blocks_.size();
+        Block& b = blocks_.emplace_back(); // in place: a block is 1 kB
         const Body& A = bodies_[c.a];
         const Body& B = bodies_[c.b];
         const double sa = jacobi ? split_[c.a] : 1.0, sb = jacobi ? split_[c.b] : 1.0;
@@ -63,11 +64,10 @@ void Solver::setup_blocks() {
         b.mu = c.mu;
         b.jt1 = b.jt2 = b.jtw = 0;
         for (std::size_t j = 0; j < m; ++j) {
-            rows_[i + j].block = static_cast<int>(blocks_.size());
+            rows_[i + j].block = static_cast<int>(index);
             rows_[i + j].jt1 = rows_[i + j].jt2 = 0;
         }
-        schedule_.push_back(-1 - static_cast<std::int64_t>(blocks_.size()));
-        blocks_.push_back(b);
+        schedule_.push_back(-1 - static_cast<std::int64_t>(index));
         i += m;
     }
     pack_groups();

@@ -358,8 +358,8 @@ void Solver::setup_rows(double dt) {
                 c.mn = inverse_mass(c.n);
                 c.mt1 = inverse_mass(c.t1);
                 c.mt2 = inverse_mass(c.t2);
-            } else {
-                c.mn = 1 / point_inverse_mass(A, B, c.xa, c.xb, c.n, sa, sb);
+            } else { // a block's rows: their normal's only where no set solves it (solve_block_normal)
+                c.mn = in_block ? 0.0 : 1 / point_inverse_mass(A, B, c.xa, c.xb, c.n, sa, sb);
                 c.mt1 = in_block ? 0.0 : 1 / point_inverse_mass(A, B, c.xa, c.xb, c.t1, sa, sb);
                 c.mt2 = in_block ? 0.0 : 1 / point_inverse_mass(A, B, c.xa, c.xb, c.t2, sa, sb);
             }
@@ -544,10 +544,26 @@ bool Solver::cache_home(const Row& c, CacheHome& h) const {
 }
 
 void Solver::find_slots(const World& w) {
-    if (slots_.empty()) return;
+    // Each item (a row, or a manifold's rows together) that may strike: one without a slot
+    // at some point (collisions visits them alone, in order).
+    impacts_.clear();
+    auto strike = [&](std::size_t i) {
+        const Row& c = rows_[i];
+        if (c.slot >= 0) return;
+        const std::size_t item = c.block >= 0 ? blocks_[static_cast<std::size_t>(c.block)].first : i;
+        if (impacts_.empty() || impacts_.back() != item) impacts_.push_back(item);
+    };
+    if (slots_.empty()) {
+        for (std::size_t i = 0; i < rows_.size(); ++i) strike(i);
+        return;
+    }
     CacheHome h;
-    for (Row& c : rows_) {
-        if (!cache_home(c, h)) continue;
+    for (std::size_t r = 0; r < rows_.size(); ++r) {
+        Row& c = rows_[r];
+        if (!cache_home(c, h)) {
+            strike(r);
+            continue;
+        }
         // slots are filled from the front, component after component of a pool
         bool done = false;
         for (std::size_t i = 0; i < h.components && !done; ++i) {
@@ -566,6 +582,7 @@ void Solver::find_slots(const World& w) {
                 }
             }
         }
+        strike(r);
     }
 }
 
@@ -606,20 +623,15 @@ void Solver::collisions(double dt) {
         bool any = false;
         if (jacobi) snapshot_ = bodies_;
         const std::vector<Body>& from = jacobi ? snapshot_ : bodies_; // read; impulses go to bodies_
-        for (std::size_t i = 0; i < rows_.size(); ++i) {
+        // A manifold resting at every point (each carried a load: a cache slot) has no
+        // impact, nor has a resting row: find_slots lists the others.
+        for (std::size_t i : impacts_) {
             Row& c = rows_[i];
             const Body& A = from[c.a];
             const Body& B = from[c.b];
             if (c.block >= 0) { // a manifold's points together (solve_lcp)
                 Block& k = blocks_[static_cast<std::size_t>(c.block)];
                 const std::size_t m = k.count;
-                // a manifold resting at every point (each carried a load: a cache slot) has no impact
-                bool resting = true;
-                for (std::size_t j = 0; j < m; ++j) resting = resting && rows_[i + j].slot >= 0;
-                if (resting) {
-                    i += m - 1;
-                    continue;
-                }
                 double vn[4] = {0, 0, 0, 0}, target[4] = {0, 0, 0, 0}, x[4];
                 bool hit = false;
                 for (std::size_t j = 0; j < m; ++j) {
@@ -708,6 +720,13 @@ void Solver::solve_block_friction(Block& k, const std::vector<Body>& from) {
 void Solver::solve_block_normal(Block& k, const std::vector<Body>& from) {
     if (solve_block(k, from)) return;
     Row* r = &rows_[k.first]; // its points one by one, as rows
+    const Body& A = bodies_[k.a];
+    const Body& B = bodies_[k.b];
+    if (B.model < 0) { // their normal's effective masses, which setup_rows leaves to this rare case
+        const bool jacobi = options_.scheme == ContactScheme::jacobi;
+        const double sa = jacobi ? split_[k.a] : 1.0, sb = jacobi ? split_[k.b] : 1.0;
+        for (std::size_t j = 0; j < k.count; ++j) r[j].mn = 1 / point_inverse_mass(A, B, r[j].xa, r[j].xb, r[j].n, sa, sb);
+    }
     for (std::size_t j = 0; j < k.count; ++j) {
         r[j].jn = k.jn[j];
         solve_row_normal(r[j], from);

@@ -134,6 +134,8 @@ struct Row {
 /// (and μ Σ jn times the points' mean distance from the centre) — so that the order in which
 /// the points are visited leaves no net push or turn: a resting box stays put.
 struct Block {
+    /// Not zeroed (1 kB): fill_block writes what is read (as WideGroup's).
+    Block() {} // NOLINT(modernize-use-equals-default): = default would zero it in emplace_back
     // What the velocity passes read, together (a block's rows only when no set of points solves it).
     std::uint32_t a = 0, b = 0; // its rows' scratch bodies
     std::size_t count = 0;
@@ -371,6 +373,7 @@ public:
         split_.reserve(n + 1);
         local_.reserve(layout_->components.size());
         slots_used_.reserve(n);
+        impacts_.reserve(contacts);
         manager_.reserve(n, n * kReservedContactsPerBody);
         if (n_rigid_ < n) model_pairs_.reserve(n * kReservedContactsPerBody);
         if (shape_field_ >= 0) { // manifolds: up to 4 points a pair
@@ -383,6 +386,7 @@ public:
             blocks_.reserve(contacts);
             schedule_.reserve(5 * contacts);
             pos_blocks_.reserve(contacts);
+            impacts_.reserve(5 * contacts);
             saved_.reserve(6 * (n + 1));
             stamp_.reserve(n + 1);
             taken_.reserve(5 * contacts);
@@ -591,6 +595,7 @@ private:
     std::vector<ItemBodies> item_bodies_;
     std::vector<std::uint32_t> stamp_;
     std::vector<std::uint32_t> slots_used_; // store_cache: the slots each body (then each model's pool) has filled
+    std::vector<std::size_t> impacts_;      // find_slots: the first rows of the items that may strike
     std::vector<std::uint8_t> taken_;
     std::vector<std::int64_t> sorted_;
     std::vector<WideGroup> groups_;

@@ -210,6 +210,7 @@ V load(const double* p) {
 void store(double* p, const V& v) { std::memcpy(p, &v, sizeof v); }
 V splat(double x) { return V{x, x, x, x}; }
 V select(const Mask& m, const V& a, const V& b) { return m ? a : b; }
+Mask select(const Mask& m, const Mask& a, const Mask& b) { return (m & a) | (~m & b); }
 
 /// clamp_disk in each lane.
 void clamp_disk_lanes(V& n1, V& n2, const V& limit) {
@@ -310,13 +311,107 @@ struct LaneBodies {
 bool all_lanes(const Mask& m) { return (m[0] & m[1] & m[2] & m[3]) != 0; }
 bool any_lane(const Mask& m) { return (m[0] | m[1] | m[2] | m[3]) != 0; }
 
-/// solve_lcp's first two tries in each lane of `start`: x from the full set's pseudo-inverse,
-/// y from the last set's padded inverse (zero outside it), r = bias − b; full and last where
-/// each solves (x ≥ 0; y ≥ 0 and the points left out not sinking).
+/// A set of pressing points tried in each lane of `go` (solve_lcp_of's `attempt`): `in` its
+/// points, its (K_SS + 1e-9 diag)⁻¹ by Gauss–Jordan into inv — padded to the block's points,
+/// the identity outside S, which the elimination leaves exact: the same bits as invert_spd
+/// on S alone — and y = inv r on S (zero outside it). Where it solves: y ≥ 0 on S and the
+/// points left out not sinking. Lanes where a pivot is not positive are left out (their
+/// scalar "inverse" is not one, and only the scalar search reproduces it).
 template <int M>
-void try_full_and_last(const WideGroup& g, const Mask& start, const V* b, const V* r, V* x, V* y, Mask& full, Mask& last) {
+Mask try_lane_set(const WideGroup& g, Mask ok, const Mask* in, const V* b, const V* r, V* y, V (*a)[M]) {
+    const V zero = splat(0), one = splat(1);
+    for (int p = 0; p < M; ++p)
+        for (int q = 0; q < M; ++q) {
+            const V kpq = load(g.k[4 * p + q]);
+            a[p][q] = p == q ? select(in[p], kpq * (1 + 1e-9), one) : select(in[p] & in[q], kpq, zero);
+        }
+    for (int k = 0; k < M; ++k) ok &= a[k][k] > 0; // invert_spd_checked's two refusals: a diagonal,
+    for (int k = 0; k < M; ++k) {
+        ok &= a[k][k] > 0; // then a pivot, not positive
+        const V piv = one / a[k][k];
+        a[k][k] = one;
+        for (int j = 0; j < M; ++j) a[k][j] *= piv;
+        for (int i = 0; i < M; ++i) {
+            if (i == k) continue;
+            const V f = a[i][k];
+            a[i][k] = zero;
+            for (int j = 0; j < M; ++j) a[i][j] -= f * a[k][j];
+        }
+    }
+    for (int p = 0; p < M; ++p) {
+        y[p] = zero;
+        for (int q = 0; q < M; ++q) y[p] += a[p][q] * r[q];
+        ok &= ~in[p] | (y[p] >= 0);
+        y[p] = select(in[p], y[p], zero);
+    }
+    for (int i = 0; i < M; ++i) { // the points left out must not sink
+        V w = b[i];
+        for (int j = 0; j < M; ++j) w += load(g.k[4 * i + j]) * y[j];
+        const V bias = load(g.bias[i]);
+        const V size = select(bias < 0, -bias, bias); // std::abs
+        ok &= in[i] | ~(w < bias - 1e-12 * (1 + size));
+    }
+    return ok;
+}
+
+/// The lanes whose search found a new last set (`lanes`): its points and padded inverse, for
+/// the caller to keep in the block (record_found).
+template <int M>
+struct FoundSets {
+    Mask lanes;
+    Mask in[M];
+    V inv[M][M];
+};
+
+/// try_full_and_last's lanes that neither the full nor the last set solves (`need`): the
+/// points the full set presses (x ≥ 0) unless they are the last set, then the points that sink
+/// without an impulse (r > 0) unless they are the last set, that guess or all the points —
+/// solve_lcp_of's order, skipping the sets it skips. Apart: the common path stays small.
+template <int M>
+[[gnu::noinline]] void search_more(const WideGroup& g, Mask need, const Mask& known, const Mask* in, const V* b, const V* r,
+                                   const V* x, V* y, Mask& last, FoundSets<M>& found) {
+    // The guess (the points the full set presses) unless it is the last set; then the sinking
+    // points unless they are the last set, the guess or all the points.
+    Mask guess[M], deep[M];
+    const Mask every = need | ~need;
+    Mask guess_is_last = known, deep_is_last = known, deep_is_guess = every, deep_is_all = every;
+    for (int p = 0; p < M; ++p) {
+        guess[p] = x[p] >= 0;
+        deep[p] = r[p] > 0;
+        guess_is_last &= guess[p] == in[p];
+        deep_is_last &= deep[p] == in[p];
+        deep_is_guess &= deep[p] == guess[p];
+        deep_is_all &= deep[p];
+    }
+    auto attempt = [&](const Mask& go, const Mask* set) {
+        if (!any_lane(go)) return;
+        V t[M], a[M][M];
+        const Mask ok = try_lane_set<M>(g, go, set, b, r, t, a);
+        for (int p = 0; p < M; ++p) {
+            y[p] = select(ok, t[p], y[p]);
+            found.in[p] = select(ok, set[p], found.in[p]);
+            for (int q = 0; q < M; ++q) found.inv[p][q] = select(ok, a[p][q], found.inv[p][q]);
+        }
+        last |= ok;
+        found.lanes |= ok;
+        need &= ~ok;
+    };
+    attempt(need & ~guess_is_last, guess);
+    attempt(need & ~deep_is_last & ~deep_is_guess & ~deep_is_all, deep);
+}
+
+/// solve_lcp_of's search in each lane of `start`, as far as it goes without the scalar
+/// search's cache: x from the full set's pseudo-inverse, y from the last set's padded inverse
+/// (zero outside it), r = bias − b; full and last where each solves (x ≥ 0; y ≥ 0 and the
+/// points left out not sinking). Where neither does, the points the full set presses, then
+/// the points that sink without an impulse — in the scalar search's order, skipping the sets
+/// it skips — each solving lane's y, `last` and `found` set.
+template <int M>
+void try_full_and_last(const WideGroup& g, const Mask& start, const V* b, const V* r, V* x, V* y, Mask& full, Mask& last,
+                       FoundSets<M>& found) {
     const V zero = splat(0);
     full = start;
+    found.lanes = start & ~start;
     for (int p = 0; p < M; ++p) { // try_full
         x[p] = zero;
         for (int q = 0; q < M; ++q) x[p] += load(g.inv[4 * p + q]) * r[q];
@@ -329,7 +424,8 @@ void try_full_and_last(const WideGroup& g, const Mask& start, const V* b, const 
         for (int p = 0; p < M; ++p) y[p] = zero;
         return;
     }
-    last = start & (load(g.known) != 0); // try_set on the last set, zero terms between its points
+    const Mask known = load(g.known) != 0;
+    last = start & known; // try_set on the last set, zero terms between its points
     Mask in[M];
     for (int p = 0; p < M; ++p) {
         in[p] = load(g.in[p]) != 0;
@@ -345,6 +441,23 @@ void try_full_and_last(const WideGroup& g, const Mask& start, const V* b, const 
         const V size = select(bias < 0, -bias, bias); // std::abs
         last &= in[i] | ~(w < bias - 1e-12 * (1 + size));
     }
+    const Mask need = start & ~full & ~last;
+    if (any_lane(need)) search_more<M>(g, need, known, in, b, r, x, y, last, found);
+}
+
+/// solve_lcp_of's record of a set found in lane l: the block's last set and its inverse,
+/// packed over the set's points (Block::last_inv), and the lane's padded copy (pad_last).
+template <int M>
+void record_found(Block& k, WideGroup& g, const FoundSets<M>& found, int l) {
+    unsigned set = 0;
+    int idx[4], n = 0;
+    for (int p = 0; p < M; ++p)
+        if (found.in[p][l] != 0) set |= 1u << p, idx[n++] = p;
+    k.last_set = set;
+    k.last_known = true;
+    for (int p = 0; p < n; ++p)
+        for (int q = 0; q < n; ++q) k.last_inv[4 * p + q] = found.inv[idx[p]][idx[q]][l];
+    pad_last(k, g, l);
 }
 
 /// The normal impulses l_j at a block's points where `go` (solve_block's tail): v_a += Σ l_j
@@ -426,8 +539,8 @@ void Solver::solve_group(WideGroup& g) {
         const V s2 = rb[0] * p1 - rb[1] * p0 + ltw * n[2];
         lanes.impulse(apply, p0, p1, p2, u0, u1, u2, s0, s1, s2);
     }
-    // solve_block: b = v − K a, the full set, then the last set; the lanes neither solves
-    // go through solve_block_normal once the others are stored.
+    // solve_block: b = v − K a, the full set, the last set, then the likely sets; the lanes
+    // none of them solves go through solve_block_normal once the others are stored.
     V off[3];
     for (int d = 0; d < 3; ++d) off[d] = load(g.off[d]);
     const V vn = (av[0] - bv[0]) * n[0] + (av[1] - bv[1]) * n[1] + (av[2] - bv[2]) * n[2] -
@@ -444,7 +557,8 @@ void Solver::solve_group(WideGroup& g) {
         r[i] = load(g.bias[i]) - b[i];
     }
     Mask full, last;
-    try_full_and_last<M>(g, zero == zero, b, r, x, y, full, last);
+    FoundSets<M> found;
+    try_full_and_last<M>(g, zero == zero, b, r, x, y, full, last, found);
     // The solved lanes' impulses applied (solve_block's tail).
     const Mask solved = full | last;
     V step[M];
@@ -456,6 +570,7 @@ void Solver::solve_group(WideGroup& g) {
     apply_normals<M>(lanes, solved, step, ua, n, off);
     lanes.scatter(bodies_, g, ids_.size());
     for (int l = 0; l < 4; ++l) {
+        if (found.lanes[l] != 0) record_found<M>(blocks_[g.block[l]], g, found, l);
         if (solved[l] != 0) continue;
         Block& k = blocks_[g.block[l]];
         for (int j = 0; j < 4; ++j) k.jn[j] = g.jn[j][l];
@@ -527,7 +642,8 @@ bool Solver::push_group(WideGroup& g) {
     }
     if (!any_lane(deep)) return false;
     Mask full, last;
-    try_full_and_last<M>(g, deep, b, r, x, y, full, last);
+    FoundSets<M> found;
+    try_full_and_last<M>(g, deep, b, r, x, y, full, last, found);
     const Mask solved = full | last;
     const V beta = splat(options_.baumgarte);
     V push[M];
@@ -536,6 +652,7 @@ bool Solver::push_group(WideGroup& g) {
     lanes.scatter(bodies_, g, ids_.size());
     bool moved = any_lane(solved);
     for (int l = 0; l < 4; ++l) {
+        if (found.lanes[l] != 0) record_found<M>(blocks_[g.block[l]], g, found, l);
         if (deep[l] == 0 || solved[l] != 0) continue;
         Block& k = blocks_[g.block[l]];
         moved = push_block(k) || moved;
