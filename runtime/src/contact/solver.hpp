@@ -181,8 +181,9 @@ struct WideGroup {
     /// Not zeroed (3 kB): load_groups fills what the lanes read.
     WideGroup() {} // NOLINT(modernize-use-equals-default): = default would zero it in emplace_back
     std::uint32_t block[L], a[L], b[L];
-    int count = 0; // points per block (2 to 4); 1: four point rows (block: their rows; ra, rb
-                   // their lever arms xa, xb; jn[0], bias[0] and mn their normal's)
+    int count = 0; // points per block (2 to 4; 4 takes blocks of 3 too, padded: points); 1: four
+                   // point rows (block: their rows; ra, rb their lever arms xa, xb; jn[0], bias[0]
+                   // and mn their normal's)
     alignas(64) double n[3][L], ra[3][L], rb[3][L], t1[3][L], t2[3][L], off[3][L];
     double mt1[L], mt2[L], mtw[L], reach[L], mu[L], mn[L];
     double jt1[L], jt2[L], jtw[L];
@@ -190,6 +191,7 @@ struct WideGroup {
     double ua[4][3][L];
     double k[16][L], inv[16][L];
     double last[16][L];
+    double points[L]; // the lane's block's points (count, or fewer: the rest padded)
     double known[L];  // 1 where the lane's last set is known
     double in[4][L];  // 1 where point j is in the lane's last set
     // The lanes' bodies' inverse masses and world inverse inertias (Body::im, ii), constant in a

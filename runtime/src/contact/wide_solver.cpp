@@ -36,9 +36,11 @@ void Solver::pack_groups() {
     taken_.assign(items, 0);
     sorted_.clear();
     std::uint32_t window = 0;
-    // Each item's bodies and its kind: a block's point count, 1 for a point row (a manifold
-    // of one point), 0 for a sphere's row (never in a group); and the items of each kind not
-    // yet placed (a kind with fewer than four left makes no group).
+    // Each item's bodies and its kind: a block's point count — 4 for three points too, which
+    // ride in the lanes of four-point blocks (padded: load_groups) rather than wait, rare as
+    // they are, for three more of their own — 1 for a point row (a manifold of one point), 0
+    // for a sphere's row (never in a group); and the items of each kind not yet placed (a kind
+    // with fewer than four left makes no group).
     item_bodies_.resize(items);
     std::size_t left[5] = {0, 0, 0, 0, 0};
     for (std::size_t at = 0; at < items; ++at) {
@@ -49,7 +51,7 @@ void Solver::pack_groups() {
             x = {c.a, c.b, c.point ? 1u : 0u};
         } else {
             const Block& k = blocks_[static_cast<std::size_t>(-1 - item)];
-            x = {k.a, k.b, static_cast<std::uint32_t>(k.count)};
+            x = {k.a, k.b, static_cast<std::uint32_t>(k.count == 3 ? 4 : k.count)};
         }
         ++left[x.kind];
     }
@@ -109,6 +111,18 @@ namespace {
 
 /// The lane's last set and its inverse, padded: E[i][j] = (K_SS + 1e-9 diag)⁻¹ at the places
 /// of points i, j of S, zero elsewhere (try_set's sums over S, with zero terms between).
+/// A block of fewer points than its group's lanes (three in a group of four), padded with
+/// points that never press: no lever arm, no impulse, and a minimum velocity no point reaches
+/// (finite: 0 × −∞ would be NaN). K and K⁺ are zero beyond the block's points (fill_block), so
+/// every sum the lanes form over the padded points adds exact zeros — the block's own bits.
+void pad_points(const Block& k, WideGroup& g, int l) {
+    for (std::size_t j = k.count; j < static_cast<std::size_t>(g.count); ++j) {
+        g.jn[j][l] = 0;
+        g.bias[j][l] = -1e300;
+        for (int d = 0; d < 3; ++d) g.ua[j][d][l] = 0;
+    }
+}
+
 void pad_last(const Block& k, WideGroup& g, int l) {
     g.known[l] = k.last_known ? 1 : 0;
     for (int j = 0; j < 4; ++j) g.in[j][l] = k.last_known && (k.last_set & (1u << j)) != 0 ? 1 : 0;
@@ -135,6 +149,7 @@ void Solver::load_groups(bool constants) {
                 const Block& k = blocks_[g.block[l]];
                 g.jt1[l] = k.jt1, g.jt2[l] = k.jt2, g.jtw[l] = k.jtw;
                 for (int j = 0; j < 4; ++j) g.jn[j][l] = k.jn[j], g.bias[j][l] = k.bias[j];
+                pad_points(k, g, l);
                 pad_last(k, g, l);
             }
             continue;
@@ -171,6 +186,8 @@ void Solver::load_groups(bool constants) {
                 for (int d = 0; d < 3; ++d) g.ua[j][d][l] = k.ua[j][d];
             }
             for (int e = 0; e < 16; ++e) g.k[e][l] = k.k[e], g.inv[e][l] = k.inv[e];
+            g.points[l] = static_cast<double>(k.count);
+            pad_points(k, g, l);
             pad_last(k, g, l); // the collisions may have solved the block already
         }
     }
@@ -375,13 +392,15 @@ template <int M>
     Mask guess[M], deep[M];
     const Mask every = need | ~need;
     Mask guess_is_last = known, deep_is_last = known, deep_is_guess = every, deep_is_all = every;
+    const V points = load(g.points);
     for (int p = 0; p < M; ++p) {
-        guess[p] = x[p] >= 0;
+        const Mask real = splat(p) < points; // not a padded point (pad_points: never deep)
+        guess[p] = (x[p] >= 0) & real;
         deep[p] = r[p] > 0;
         guess_is_last &= guess[p] == in[p];
         deep_is_last &= deep[p] == in[p];
         deep_is_guess &= deep[p] == guess[p];
-        deep_is_all &= deep[p];
+        deep_is_all &= deep[p] | ~real;
     }
     auto attempt = [&](const Mask& go, const Mask* set) {
         if (!any_lane(go)) return;
