@@ -328,6 +328,28 @@ struct LaneBodies {
 bool all_lanes(const Mask& m) { return (m[0] & m[1] & m[2] & m[3]) != 0; }
 bool any_lane(const Mask& m) { return (m[0] | m[1] | m[2] | m[3]) != 0; }
 
+/// y = inv r on the set `in` (zero outside it, inv padded with zeros there) in the lanes of
+/// `ok`, and the lanes where that solves (try_set): y ≥ 0 on the set and the points left out
+/// not sinking (w = b + K y ≥ bias).
+template <int M>
+[[gnu::always_inline]] inline Mask solve_on_set(const WideGroup& g, Mask ok, const Mask* in, const V (*inv)[M], const V* b, const V* r, V* y) {
+    const V zero = splat(0);
+    for (int p = 0; p < M; ++p) {
+        y[p] = zero;
+        for (int q = 0; q < M; ++q) y[p] += inv[p][q] * r[q];
+        ok &= ~in[p] | (y[p] >= 0);
+        y[p] = select(in[p], y[p], zero);
+    }
+    for (int i = 0; i < M; ++i) { // the points left out must not sink
+        V w = b[i];
+        for (int j = 0; j < M; ++j) w += load(g.k[4 * i + j]) * y[j];
+        const V bias = load(g.bias[i]);
+        const V size = select(bias < 0, -bias, bias); // std::abs
+        ok &= in[i] | ~(w < bias - 1e-12 * (1 + size));
+    }
+    return ok;
+}
+
 /// A set of pressing points tried in each lane of `go` (solve_lcp_of's `attempt`): `in` its
 /// points, its (K_SS + 1e-9 diag)⁻¹ by Gauss–Jordan into inv — padded to the block's points,
 /// the identity outside S, which the elimination leaves exact: the same bits as invert_spd
@@ -355,20 +377,7 @@ Mask try_lane_set(const WideGroup& g, Mask ok, const Mask* in, const V* b, const
             for (int j = 0; j < M; ++j) a[i][j] -= f * a[k][j];
         }
     }
-    for (int p = 0; p < M; ++p) {
-        y[p] = zero;
-        for (int q = 0; q < M; ++q) y[p] += a[p][q] * r[q];
-        ok &= ~in[p] | (y[p] >= 0);
-        y[p] = select(in[p], y[p], zero);
-    }
-    for (int i = 0; i < M; ++i) { // the points left out must not sink
-        V w = b[i];
-        for (int j = 0; j < M; ++j) w += load(g.k[4 * i + j]) * y[j];
-        const V bias = load(g.bias[i]);
-        const V size = select(bias < 0, -bias, bias); // std::abs
-        ok &= in[i] | ~(w < bias - 1e-12 * (1 + size));
-    }
-    return ok;
+    return solve_on_set<M>(g, ok, in, a, b, r, y);
 }
 
 /// The lanes whose search found a new last set (`lanes`): its points and padded inverse, for
@@ -444,22 +453,14 @@ void try_full_and_last(const WideGroup& g, const Mask& start, const V* b, const 
         return;
     }
     const Mask known = load(g.known) != 0;
-    last = start & known; // try_set on the last set, zero terms between its points
     Mask in[M];
+    V last_inv[M][M];
     for (int p = 0; p < M; ++p) {
         in[p] = load(g.in[p]) != 0;
-        y[p] = zero;
-        for (int q = 0; q < M; ++q) y[p] += load(g.last[4 * p + q]) * r[q];
-        last &= ~in[p] | (y[p] >= 0);
-        y[p] = select(in[p], y[p], zero);
+        for (int q = 0; q < M; ++q) last_inv[p][q] = load(g.last[4 * p + q]);
     }
-    for (int i = 0; i < M; ++i) { // the points left out must not sink
-        V w = b[i];
-        for (int j = 0; j < M; ++j) w += load(g.k[4 * i + j]) * y[j];
-        const V bias = load(g.bias[i]);
-        const V size = select(bias < 0, -bias, bias); // std::abs
-        last &= in[i] | ~(w < bias - 1e-12 * (1 + size));
-    }
+    last = solve_on_set<M>(g, start & known, in, last_inv, b, r, y); // try_set on the last set
+
     const Mask need = start & ~full & ~last;
     if (any_lane(need)) search_more<M>(g, need, known, in, b, r, x, y, last, found);
 }
