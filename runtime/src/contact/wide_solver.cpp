@@ -109,8 +109,6 @@ void Solver::pack_groups() {
 
 namespace {
 
-/// The lane's last set and its inverse, padded: E[i][j] = (K_SS + 1e-9 diag)⁻¹ at the places
-/// of points i, j of S, zero elsewhere (try_set's sums over S, with zero terms between).
 /// A block of fewer points than its group's lanes (three in a group of four), padded with
 /// points that never press: no lever arm, no impulse, and a minimum velocity no point reaches
 /// (finite: 0 × −∞ would be NaN). K and K⁺ are zero beyond the block's points (fill_block), so
@@ -123,6 +121,8 @@ void pad_points(const Block& k, WideGroup& g, int l) {
     }
 }
 
+/// The lane's last set and its inverse, padded: E[i][j] = (K_SS + 1e-9 diag)⁻¹ at the places
+/// of points i, j of S, zero elsewhere (try_set's sums over S, with zero terms between).
 void pad_last(const Block& k, WideGroup& g, int l) {
     g.known[l] = k.last_known ? 1 : 0;
     for (int j = 0; j < 4; ++j) g.in[j][l] = k.last_known && (k.last_set & (1u << j)) != 0 ? 1 : 0;
@@ -332,7 +332,8 @@ bool any_lane(const Mask& m) { return (m[0] | m[1] | m[2] | m[3]) != 0; }
 /// `ok`, and the lanes where that solves (try_set): y ≥ 0 on the set and the points left out
 /// not sinking (w = b + K y ≥ bias).
 template <int M>
-[[gnu::always_inline]] inline Mask solve_on_set(const WideGroup& g, Mask ok, const Mask* in, const V (*inv)[M], const V* b, const V* r, V* y) {
+[[gnu::always_inline]] inline Mask solve_on_set(const WideGroup& g, Mask ok, const Mask* in, const V (*inv)[M], const V* b,
+                                                const V* r, V* y) {
     const V zero = splat(0);
     for (int p = 0; p < M; ++p) {
         y[p] = zero;
@@ -460,7 +461,6 @@ void try_full_and_last(const WideGroup& g, const Mask& start, const V* b, const 
         for (int q = 0; q < M; ++q) last_inv[p][q] = load(g.last[4 * p + q]);
     }
     last = solve_on_set<M>(g, start & known, in, last_inv, b, r, y); // try_set on the last set
-
     const Mask need = start & ~full & ~last;
     if (any_lane(need)) search_more<M>(g, need, known, in, b, r, x, y, last, found);
 }
