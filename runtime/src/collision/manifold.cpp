@@ -3,6 +3,7 @@
 #include "manifold_detail.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <utility>
 
@@ -21,7 +22,11 @@ void keep_four(const ManifoldPoint* found, int m, Manifold& out) {
         out.count = m;
         return;
     }
-    auto at = [&](int k) -> Eigen::Vector3d { return 0.5 * (found[k].on_a + found[k].on_b); };
+    // Each point midway between its two surfaces, once (m ≤ 8).
+    std::array<Eigen::Vector3d, 8> mid;
+    for (Eigen::Vector3d& x : mid) x.setZero(); // (GCC cannot see that only the first m are read)
+    for (int k = 0; k < m; ++k) mid[static_cast<std::size_t>(k)] = 0.5 * (found[k].on_a + found[k].on_b);
+    auto at = [&](int k) -> const Eigen::Vector3d& { return mid[static_cast<std::size_t>(k)]; };
     auto area = [&](int i, int j, int k) { return (at(j) - at(i)).cross(at(k) - at(i)).dot(out.normal); };
     int p0 = 0;
     for (int k = 1; k < m; ++k)

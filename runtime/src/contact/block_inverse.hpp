@@ -7,13 +7,16 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 namespace phynjo::runtime::contact_detail {
 
-/// In place: the inverse of the symmetric positive definite n × n matrix a (row-major,
-/// stride 4) by Gauss–Jordan elimination (no pivoting needed); false (a left in pieces) when a
-/// pivot falls to `floor` of its diagonal entry or below: singular to working precision.
-inline bool invert_spd_checked(double* a, int n, double floor = 1e-9) {
+namespace block_inverse_detail {
+
+/// invert_spd_checked's elimination for n given as an int or as std::integral_constant (a
+/// fixed n unrolls the loops: the same operations in the same order).
+template <class Size>
+inline bool gauss_jordan(double* a, Size n, double floor) {
     for (int k = 0; k < n; ++k)
         if (!(a[4 * k + k] > 0)) return false;
     double diag[4];
@@ -31,6 +34,22 @@ inline bool invert_spd_checked(double* a, int n, double floor = 1e-9) {
         }
     }
     return true;
+}
+
+} // namespace block_inverse_detail
+
+/// In place: the inverse of the symmetric positive definite n × n matrix a (row-major,
+/// stride 4, n ≤ 4) by Gauss–Jordan elimination (no pivoting needed); false (a left in pieces)
+/// when a pivot falls to `floor` of its diagonal entry or below: singular to working precision.
+inline bool invert_spd_checked(double* a, int n, double floor = 1e-9) {
+    using block_inverse_detail::gauss_jordan;
+    switch (n) {
+    case 1: return gauss_jordan(a, std::integral_constant<int, 1>{}, floor);
+    case 2: return gauss_jordan(a, std::integral_constant<int, 2>{}, floor);
+    case 3: return gauss_jordan(a, std::integral_constant<int, 3>{}, floor);
+    case 4: return gauss_jordan(a, std::integral_constant<int, 4>{}, floor);
+    default: return gauss_jordan(a, n, floor);
+    }
 }
 
 /// invert_spd_checked for a matrix known to be positive definite (K_SS + 1e-9 diag).

@@ -99,7 +99,7 @@ const SetOrder kSetOrders[5] = {SetOrder(0), SetOrder(1), SetOrder(2), SetOrder(
 
 } // namespace
 
-bool Solver::solve_block(Block& k, const std::vector<Body>& from) {
+bool Solver::solve_block(Block& k, const std::vector<Body>& from, bool lanes_tried) {
     // The manifold's linear complementarity problem, solved exactly: with a the accumulated
     // impulses, v the normal velocities and b = v − K a (the velocities without them), find
     // x ≥ 0 with w = b + K x ≥ bias and x_i (w_i − bias_i) = 0, by trying the sets of
@@ -119,7 +119,7 @@ bool Solver::solve_block(Block& k, const std::vector<Body>& from) {
     for (std::size_t i = 0; i < m; ++i)
         for (std::size_t j = 0; j < m; ++j) b[i] -= k.k[4 * i + j] * k.jn[j];
     double x[4];
-    if (!solve_lcp(k, b, k.bias, x)) return false;
+    if (!solve_lcp(k, b, k.bias, x, lanes_tried)) return false;
     double total = 0, u[3] = {0, 0, 0};
     for (std::size_t j = 0; j < m; ++j) {
         const double l = x[j] - k.jn[j];
@@ -206,13 +206,13 @@ bool try_full(const double* inv, const double* b, const double* bias, double* x,
 }
 
 template <int M>
-bool solve_lcp_of(Block& k, const double* b, const double* bias, double* x) {
+bool solve_lcp_of(Block& k, const double* b, const double* bias, double* x, bool lanes_tried) {
     const SetOrder& order = kSetOrders[M];
     auto clear = [x] { std::fill_n(x, 4, 0.0); };
     clear();
     unsigned guess = 0;
-    if (try_full<M>(k.inv, b, bias, x, guess)) return true;
-    if (k.last_known) {
+    if (try_full<M>(k.inv, b, bias, x, guess)) return true; // its pressing points: the guess, wanted below either way
+    if (k.last_known && !lanes_tried) {
         clear();
         if (try_set<M>(k, k.last_set, k.last_inv, 4, b, bias, x)) return true;
     }
@@ -253,8 +253,8 @@ bool solve_lcp_of(Block& k, const double* b, const double* bias, double* x) {
     for (int j = 0; j < M; ++j)
         if (bias[j] - b[j] > 0) deep |= 1u << j;
     const unsigned last = k.last_known ? k.last_set : ~0u;
-    if (guess != last && attempt(order.index[guess])) return true;
-    if (deep != last && deep != guess && deep != (1u << M) - 1 && attempt(order.index[deep])) return true;
+    if (!lanes_tried && guess != last && attempt(order.index[guess])) return true;
+    if (!lanes_tried && deep != last && deep != guess && deep != (1u << M) - 1 && attempt(order.index[deep])) return true;
     for (int pass = 0; pass < 2; ++pass)
         for (int i = 1; i < order.count; ++i) {
             const unsigned set = order.sets[i];
@@ -267,26 +267,27 @@ bool solve_lcp_of(Block& k, const double* b, const double* bias, double* x) {
 
 } // namespace
 
-bool Solver::solve_lcp(Block& k, const double* b, const double* bias, double* x) const {
+bool Solver::solve_lcp(Block& k, const double* b, const double* bias, double* x, bool lanes_tried) const {
     // The full set first (its pseudo-inverse kept by fill_block), so that of the many impulses
     // that hold a face (its four points' K has rank 3) the same, symmetric ones are chosen when
     // every point presses; then the set that solved the block last (its inverse kept: the
     // iterations of a step mostly find the same points pressing); then the likely sets, then
     // every other (solve_lcp_of).
     switch (k.count) {
-    case 1: return solve_lcp_of<1>(k, b, bias, x);
-    case 2: return solve_lcp_of<2>(k, b, bias, x);
-    case 3: return solve_lcp_of<3>(k, b, bias, x);
-    case 4: return solve_lcp_of<4>(k, b, bias, x);
+    case 1: return solve_lcp_of<1>(k, b, bias, x, lanes_tried);
+    case 2: return solve_lcp_of<2>(k, b, bias, x, lanes_tried);
+    case 3: return solve_lcp_of<3>(k, b, bias, x, lanes_tried);
+    case 4: return solve_lcp_of<4>(k, b, bias, x, lanes_tried);
     default: return false; // blocks hold 1 to 4 points (Manifold)
     }
 }
 
-void Solver::fill_block(const Body& A, const Body& B, const double* n, const double (*ra)[3], const double (*rb)[3],
-                        std::size_t m, double sa, double sb, bool plane, Block& k) const {
+template <class Size>
+void Solver::fill_block_of(const Body& A, const Body& B, const double* n, const double (*ra)[3], const double (*rb)[3], Size m,
+                           double sa, double sb, bool plane, Block& k) const {
     double(&ua)[4][3] = k.ua;
     double ub[4][3], ia[4][3], ib[4][3];
-    for (std::size_t j = 0; j < m; ++j) {
+    for (int j = 0; j < m; ++j) {
         cross(ra[j], n, ua[j]);
         cross(rb[j], n, ub[j]);
         mul_sym(A.ii, ua[j], ia[j]);
@@ -299,13 +300,13 @@ void Solver::fill_block(const Body& A, const Body& B, const double* n, const dou
         const double dp[3] = {A.p[0] - B.p[0], A.p[1] - B.p[1], A.p[2] - B.p[2]};
         cross(dp, n, k.off);
     }
-    k.count = m;
-    for (std::size_t p = 0; p < 4; ++p)
-        for (std::size_t q = 0; q < 4; ++q)
+    k.count = static_cast<std::size_t>(m);
+    for (int p = 0; p < 4; ++p)
+        for (int q = 0; q < 4; ++q)
             k.k[4 * p + q] = p < m && q < m ? sa * (A.im + dot(ua[p], ia[q])) + sb * (B.im + dot(ub[p], ib[q])) : 0.0;
     if (is_model_box(B)) // the model's share: g_pᵀ A_box g_q, g = (n, r_b × n) (no I_b: B.ii is 0)
-        for (std::size_t p = 0; p < m; ++p)
-            for (std::size_t q = 0; q < m; ++q) {
+        for (int p = 0; p < m; ++p)
+            for (int q = 0; q < m; ++q) {
                 const double gp[6] = {n[0], n[1], n[2], ub[p][0], ub[p][1], ub[p][2]};
                 const double gq[6] = {n[0], n[1], n[2], ub[q][0], ub[q][1], ub[q][2]};
                 double ka;
@@ -328,6 +329,17 @@ void Solver::fill_block(const Body& A, const Body& B, const double* n, const dou
     k.last_set = 0;
     k.last_known = false;
     k.subsets_known = 0;
+}
+
+void Solver::fill_block(const Body& A, const Body& B, const double* n, const double (*ra)[3], const double (*rb)[3],
+                        std::size_t m, double sa, double sb, bool plane, Block& k) const {
+    // The point count fixed where it can be: the same operations, their loops unrolled.
+    switch (m) {
+    case 2: return fill_block_of(A, B, n, ra, rb, std::integral_constant<int, 2>{}, sa, sb, plane, k);
+    case 3: return fill_block_of(A, B, n, ra, rb, std::integral_constant<int, 3>{}, sa, sb, plane, k);
+    case 4: return fill_block_of(A, B, n, ra, rb, std::integral_constant<int, 4>{}, sa, sb, plane, k);
+    default: return fill_block_of(A, B, n, ra, rb, static_cast<int>(m), sa, sb, plane, k);
+    }
 }
 
 bool Solver::correct_block(std::size_t first, Block& k) {

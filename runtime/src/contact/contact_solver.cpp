@@ -717,8 +717,8 @@ void Solver::solve_block_friction(Block& k, const std::vector<Body>& from) {
     if (l1 != 0 || l2 != 0 || ltw != 0) apply_central(k, l1, l2, ltw, bodies_);
 }
 
-void Solver::solve_block_normal(Block& k, const std::vector<Body>& from) {
-    if (solve_block(k, from)) return;
+void Solver::solve_block_normal(Block& k, const std::vector<Body>& from, bool lanes_tried) {
+    if (solve_block(k, from, lanes_tried)) return;
     Row* r = &rows_[k.first]; // its points one by one, as rows
     const Body& A = bodies_[k.a];
     const Body& B = bodies_[k.b];

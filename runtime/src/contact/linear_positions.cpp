@@ -27,7 +27,7 @@ bool Solver::push_row(Row& c) {
     return true;
 }
 
-bool Solver::push_block(Block& k) {
+bool Solver::push_block(Block& k, bool lanes_tried) {
     // solve_block's LCP with no accumulated impulse: x ≥ 0 with b + K x ≥ bias, b_j the
     // points' separations gained so far and bias_j = −(separation at detection) − slop; β x
     // applied.
@@ -47,7 +47,7 @@ bool Solver::push_block(Block& k) {
     }
     if (!deep) return false;
     double x[4];
-    if (!solve_lcp(k, b, k.bias, x)) return false;
+    if (!solve_lcp(k, b, k.bias, x, lanes_tried)) return false;
     const double beta = options_.baumgarte;
     double total = 0, u[3] = {0, 0, 0};
     for (std::size_t j = 0; j < m; ++j) {

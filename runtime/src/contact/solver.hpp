@@ -54,7 +54,9 @@
 
 namespace phynjo::runtime::contact_detail {
 
-struct Body {
+// Aligned to a cache line: the lanes read v, ω and the start of p as one 64-byte row
+// (LaneBodies::gather), which then lies in one line instead of straddling two.
+struct alignas(64) Body {
     double v[3], w[3], p[3];
     double im;    // 1/m (0 for a model sphere: see `model`)
     double ii[6]; // world inverse inertia: xx, yy, zz, xy, xz, yz
@@ -477,8 +479,9 @@ private:
     /// A block's friction and twist at its centre, limited by μ Σ jn of the previous pass.
     void solve_block_friction(Block& k, const std::vector<Body>& from);
     /// A block's normal impulses together (solve_block), or its points as rows when no set
-    /// solves them.
-    void solve_block_normal(Block& k, const std::vector<Body>& from);
+    /// solves them. `lanes_tried`: the lanes tried the first sets of the search already
+    /// (solve_lcp).
+    void solve_block_normal(Block& k, const std::vector<Body>& from, bool lanes_tried = false);
     /// WideGroups from blocks_ (after the warm start), and their impulses back into blocks_.
     /// `constants` false: only what the warm start and the position passes change (the
     /// impulses, biases and last sets), the rest loaded already this step.
@@ -496,17 +499,23 @@ private:
     void apply_central(const Block& k, double l1, double l2, double ltw, std::vector<Body>& B);
     /// The normal impulses of the block (k.jn, read against k.bias) with the velocities of
     /// `from`, applied to bodies_; false (nothing applied) when no set of pressing points solves it.
-    bool solve_block(Block& k, const std::vector<Body>& from);
+    bool solve_block(Block& k, const std::vector<Body>& from, bool lanes_tried = false);
     /// Normal impulses totalling `total` with moments u = Σ λ_j u_j (a's) at a block's points,
     /// side b rigid or static: v_a += total n/m_a, ω_a += I_a⁻¹u, v_b −= total n/m_b,
     /// ω_b −= I_b⁻¹(u + total off). u is overwritten.
     void apply_block_normals(const Block& k, double total, double* u);
     /// x ≥ 0 with w = b + K x ≥ bias, complementary, from the largest set of pressing points down.
-    bool solve_lcp(Block& k, const double* b, const double* bias, double* x) const;
+    /// `lanes_tried`: the lanes (wide_solver.cpp) found that the full set, the last set, the
+    /// guess and the sinking points do not solve it — the same arithmetic, so they are skipped.
+    bool solve_lcp(Block& k, const double* b, const double* bias, double* x, bool lanes_tried = false) const;
     /// K of m points with lever arms ra, rb and normal n between A and B (split masses sa, sb),
     /// its pseudo-inverse, and u_j, off, n; `plane`: b is a plane's static body.
     void fill_block(const Body& A, const Body& B, const double* n, const double (*ra)[3], const double (*rb)[3],
                     std::size_t m, double sa, double sb, bool plane, Block& k) const;
+    /// fill_block for m an int or a std::integral_constant (block_solver.cpp).
+    template <class Size>
+    void fill_block_of(const Body& A, const Body& B, const double* n, const double (*ra)[3], const double (*rb)[3], Size m,
+                       double sa, double sb, bool plane, Block& k) const;
     /// A model box X's share of K: g₁ᵀ A_box g₂ for the wrenches g = (force, moment).
     double model_box_k(const Body& X, const double* g1, const double* g2) const;
     /// The wrench (force, moment) on a model box X (about its centre) as Δq' (Δq and turns when
@@ -533,7 +542,7 @@ private:
     /// the bodies' v, w: their displacements and turns so far); false if not deeper than the
     /// slop (or, a block, no set of points solves it).
     bool push_row(Row& c);
-    bool push_block(Block& k);
+    bool push_block(Block& k, bool lanes_tried = false);
     /// push_block and push_row of a WideGroup's four blocks or rows at once (wide_solver.cpp);
     /// true if any lane moved.
     template <int M>
