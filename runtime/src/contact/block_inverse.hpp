@@ -11,10 +11,22 @@
 
 namespace phynjo::runtime::contact_detail {
 
+/// f(n) with n as std::integral_constant<int, n> for n = 1 to 4 — loops over it then unroll,
+/// the same operations in the same order — and as the int otherwise.
+template <class F>
+inline decltype(auto) with_fixed_count(int n, F&& f) {
+    switch (n) {
+    case 1: return f(std::integral_constant<int, 1>{});
+    case 2: return f(std::integral_constant<int, 2>{});
+    case 3: return f(std::integral_constant<int, 3>{});
+    case 4: return f(std::integral_constant<int, 4>{});
+    default: return f(n);
+    }
+}
+
 namespace block_inverse_detail {
 
-/// invert_spd_checked's elimination for n given as an int or as std::integral_constant (a
-/// fixed n unrolls the loops: the same operations in the same order).
+/// invert_spd_checked's elimination, n an int or a std::integral_constant (with_fixed_count).
 template <class Size>
 inline bool gauss_jordan(double* a, Size n, double floor) {
     for (int k = 0; k < n; ++k)
@@ -42,14 +54,7 @@ inline bool gauss_jordan(double* a, Size n, double floor) {
 /// stride 4, n ≤ 4) by Gauss–Jordan elimination (no pivoting needed); false (a left in pieces)
 /// when a pivot falls to `floor` of its diagonal entry or below: singular to working precision.
 inline bool invert_spd_checked(double* a, int n, double floor = 1e-9) {
-    using block_inverse_detail::gauss_jordan;
-    switch (n) {
-    case 1: return gauss_jordan(a, std::integral_constant<int, 1>{}, floor);
-    case 2: return gauss_jordan(a, std::integral_constant<int, 2>{}, floor);
-    case 3: return gauss_jordan(a, std::integral_constant<int, 3>{}, floor);
-    case 4: return gauss_jordan(a, std::integral_constant<int, 4>{}, floor);
-    default: return gauss_jordan(a, n, floor);
-    }
+    return with_fixed_count(n, [&](auto size) { return block_inverse_detail::gauss_jordan(a, size, floor); });
 }
 
 /// invert_spd_checked for a matrix known to be positive definite (K_SS + 1e-9 diag).

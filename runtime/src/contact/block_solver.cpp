@@ -333,13 +333,7 @@ void Solver::fill_block_of(const Body& A, const Body& B, const double* n, const 
 
 void Solver::fill_block(const Body& A, const Body& B, const double* n, const double (*ra)[3], const double (*rb)[3],
                         std::size_t m, double sa, double sb, bool plane, Block& k) const {
-    // The point count fixed where it can be: the same operations, their loops unrolled.
-    switch (m) {
-    case 2: return fill_block_of(A, B, n, ra, rb, std::integral_constant<int, 2>{}, sa, sb, plane, k);
-    case 3: return fill_block_of(A, B, n, ra, rb, std::integral_constant<int, 3>{}, sa, sb, plane, k);
-    case 4: return fill_block_of(A, B, n, ra, rb, std::integral_constant<int, 4>{}, sa, sb, plane, k);
-    default: return fill_block_of(A, B, n, ra, rb, static_cast<int>(m), sa, sb, plane, k);
-    }
+    with_fixed_count(static_cast<int>(m), [&](auto count) { fill_block_of(A, B, n, ra, rb, count, sa, sb, plane, k); });
 }
 
 bool Solver::correct_block(std::size_t first, Block& k) {

@@ -512,7 +512,7 @@ private:
     /// its pseudo-inverse, and u_j, off, n; `plane`: b is a plane's static body.
     void fill_block(const Body& A, const Body& B, const double* n, const double (*ra)[3], const double (*rb)[3],
                     std::size_t m, double sa, double sb, bool plane, Block& k) const;
-    /// fill_block for m an int or a std::integral_constant (block_solver.cpp).
+    /// fill_block for m an int or a std::integral_constant (with_fixed_count: block_inverse.hpp).
     template <class Size>
     void fill_block_of(const Body& A, const Body& B, const double* n, const double (*ra)[3], const double (*rb)[3], Size m,
                        double sa, double sb, bool plane, Block& k) const;

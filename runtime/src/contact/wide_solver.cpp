@@ -597,7 +597,7 @@ void Solver::solve_group(WideGroup& g) {
         if (solved[l] != 0) continue;
         Block& k = blocks_[g.block[l]];
         for (int j = 0; j < 4; ++j) k.jn[j] = g.jn[j][l];
-        solve_block_normal(k, bodies_, true);
+        solve_block_normal(k, bodies_, /*lanes_tried=*/true);
         for (int j = 0; j < 4; ++j) g.jn[j][l] = k.jn[j];
         pad_last(k, g, l);
     }
@@ -678,7 +678,7 @@ bool Solver::push_group(WideGroup& g) {
         if (found.lanes[l] != 0) record_found<M>(blocks_[g.block[l]], g, found, l);
         if (deep[l] == 0 || solved[l] != 0) continue;
         Block& k = blocks_[g.block[l]];
-        moved = push_block(k, true) || moved;
+        moved = push_block(k, /*lanes_tried=*/true) || moved;
         pad_last(k, g, l);
     }
     return moved;
