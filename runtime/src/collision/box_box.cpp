@@ -64,41 +64,50 @@ void box_box(const OBB& a, const Eigen::Matrix3d& ra, const OBB& b, const Eigen:
     const Eigen::Vector3d& ha = a.half;
     const Eigen::Vector3d& hb = b.half;
     const Eigen::Vector3d d = b.center - a.center; // from a to b
-    const Eigen::Matrix3d c = ra.transpose() * rb;  // c(i, j) = a_i · b_j
-    const Eigen::Matrix3d ac = c.cwiseAbs();
+    // c(i, j) = a_i · b_j, tₐ = Rₐᵀ d (d's coordinates along a's axes), each sum in index order.
+    double c[3][3], ac[3][3], ta[3];
+    for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) {
+            c[i][j] = ra(0, i) * rb(0, j) + ra(1, i) * rb(1, j) + ra(2, i) * rb(2, j);
+            ac[i][j] = std::abs(c[i][j]);
+        }
+        ta[i] = d(0) * ra(0, i) + d(1) * ra(1, i) + d(2) * ra(2, i);
+    }
 
     // Face axes of a, then of b: separation |d·u| − r_a(u) − r_b(u).
     Axis fa, fb, edge;
     for (int i = 0; i < 3; ++i) {
-        const double s = std::abs(d.dot(ra.col(i))) - ha(i) - hb.dot(ac.row(i));
+        const double s = std::abs(ta[i]) - ha(i) - (hb(0) * ac[i][0] + hb(1) * ac[i][1] + hb(2) * ac[i][2]);
         if (s > fa.sep) fa = {s, i};
     }
     if (fa.sep > margin) return;
     for (int j = 0; j < 3; ++j) {
-        const double s = std::abs(d.dot(rb.col(j))) - hb(j) - ha.dot(ac.col(j));
+        const double s = std::abs(d(0) * rb(0, j) + d(1) * rb(1, j) + d(2) * rb(2, j)) - hb(j) -
+                         (ha(0) * ac[0][j] + ha(1) * ac[1][j] + ha(2) * ac[2][j]);
         if (s > fb.sep) fb = {s, j};
     }
     if (fb.sep > margin) return;
-    // Edge axes l = a_i × b_j, in a's frame through c and tₐ = Rₐᵀ d (Gottschalk, Lin & Manocha,
+    // Edge axes l = a_i × b_j, in a's frame through c and tₐ (Gottschalk, Lin & Manocha,
     // "OBBTree", 1996): |l| = √(1 − c_ij²), l·a_{i+1} = −c_{i+2,j}, l·a_{i+2} = c_{i+1,j},
     // l·b_{j+1} = c_{i,j+2}, l·b_{j+2} = −c_{i,j+1}, d·l = tₐ_{i+2} c_{i+1,j} − tₐ_{i+1} c_{i+2,j}.
-    const Eigen::Vector3d ta = ra.transpose() * d;
+    // The nine separations num/|l| at once (their roots and divisions independent of each
+    // other: one chain, not nine), then the best in axis order — the same choice as dividing
+    // only where num can win. A pair of parallel edges (|l| ≈ 0; 1 − c² may round below 0,
+    // hence the floor under the root) is left out: the face axes cover it.
     static constexpr int kNext[3] = {1, 2, 0}, kAfter[3] = {2, 0, 1}; // (k + 1) % 3, (k + 2) % 3
+    double num[9], len2[9], sep[9];
     for (int i = 0; i < 3; ++i) {
         const int i1 = kNext[i], i2 = kAfter[i];
         for (int j = 0; j < 3; ++j) {
             const int j1 = kNext[j], j2 = kAfter[j];
-            const double len2 = 1 - c(i, j) * c(i, j);
-            if (len2 < 1e-12) continue; // parallel edges: the face axes cover them
-            const double r = ha(i1) * ac(i2, j) + ha(i2) * ac(i1, j) + hb(j1) * ac(i, j2) + hb(j2) * ac(i, j1);
-            const double num = std::abs(ta(i2) * c(i1, j) - ta(i1) * c(i2, j)) - r;
-            // A negative num over √len2 ≤ 1 is at most num: no need to divide when that is
-            // already no better than the best so far.
-            if (num < 0 && num <= edge.sep) continue;
-            const double s = num / std::sqrt(len2);
-            if (s > edge.sep) edge = {s, 3 * i + j};
+            len2[3 * i + j] = 1 - c[i][j] * c[i][j];
+            const double r = ha(i1) * ac[i2][j] + ha(i2) * ac[i1][j] + hb(j1) * ac[i][j2] + hb(j2) * ac[i][j1];
+            num[3 * i + j] = std::abs(ta[i2] * c[i1][j] - ta[i1] * c[i2][j]) - r;
         }
     }
+    for (int k = 0; k < 9; ++k) sep[k] = num[k] / std::sqrt(std::max(len2[k], 1e-12));
+    for (int k = 0; k < 9; ++k)
+        if (!(len2[k] < 1e-12) && sep[k] > edge.sep) edge = {sep[k], k};
     if (edge.sep > margin) return;
     const Eigen::Vector3d edge_axis =
         edge.index >= 0 ? Eigen::Vector3d(ra.col(edge.index / 3).cross(rb.col(edge.index % 3)).normalized()) : Eigen::Vector3d::Zero();

@@ -229,9 +229,14 @@ V splat(double x) { return V{x, x, x, x}; }
 V select(const Mask& m, const V& a, const V& b) { return m ? a : b; }
 Mask select(const Mask& m, const Mask& a, const Mask& b) { return (m & a) | (~m & b); }
 
+/// Whether every lane is set; whether any is.
+bool all_lanes(const Mask& m) { return (m[0] & m[1] & m[2] & m[3]) != 0; }
+bool any_lane(const Mask& m) { return (m[0] | m[1] | m[2] | m[3]) != 0; }
+
 /// clamp_disk in each lane.
 void clamp_disk_lanes(V& n1, V& n2, const V& limit) {
     const Mask outside = n1 * n1 + n2 * n2 > limit * limit;
+    if (!any_lane(outside)) return; // friction that sticks in every lane: no root, no division
     const V q = n1 * n1 + n2 * n2;
     V mag;
     for (int l = 0; l < 4; ++l) mag[l] = std::sqrt(q[l]);
@@ -326,10 +331,6 @@ struct LaneBodies {
         scatter(bodies, g.b, bv, bw, fixed);
     }
 };
-
-/// Whether every lane is set; whether any is.
-bool all_lanes(const Mask& m) { return (m[0] & m[1] & m[2] & m[3]) != 0; }
-bool any_lane(const Mask& m) { return (m[0] | m[1] | m[2] | m[3]) != 0; }
 
 /// y = inv r on the set `in` (zero outside it, inv padded with zeros there) in the lanes of
 /// `ok`, and the lanes where that solves (try_set): y ≥ 0 on the set and the points left out
