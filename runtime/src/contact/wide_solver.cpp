@@ -235,9 +235,9 @@ bool any_lane(const Mask& m) { return (m[0] | m[1] | m[2] | m[3]) != 0; }
 
 /// clamp_disk in each lane.
 void clamp_disk_lanes(V& n1, V& n2, const V& limit) {
-    const Mask outside = n1 * n1 + n2 * n2 > limit * limit;
-    if (!any_lane(outside)) return; // friction that sticks in every lane: no root, no division
     const V q = n1 * n1 + n2 * n2;
+    const Mask outside = q > limit * limit;
+    if (!any_lane(outside)) return; // friction that sticks in every lane: no root, no division
     V mag;
     for (int l = 0; l < 4; ++l) mag[l] = std::sqrt(q[l]);
     const V s = select(mag > 0, limit / mag, splat(0));
