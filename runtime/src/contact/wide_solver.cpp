@@ -71,21 +71,21 @@ void Solver::pack_groups() {
         int n = 1;
         stamp_[a] = member;
         if (b != fixed) stamp_[b] = member;
-        for (std::size_t j = at + 1; j < items && j <= at + kWindow && n < WideGroup::kLanes; ++j) {
-            if (taken_[j]) continue; // done already, before this group
-            const std::uint32_t xa = item_bodies_[j].a, xb = item_bodies_[j].b;
-            const std::size_t xc = item_bodies_[j].kind;
-            const bool free_a = stamp_[xa] != member && stamp_[xa] != passed;
-            const bool free_b = xb == fixed || (stamp_[xb] != member && stamp_[xb] != passed);
-            if (xc == count && free_a && free_b) {
-                found[n++] = j;
-                stamp_[xa] = member;
-                if (xb != fixed) stamp_[xb] = member;
-                continue;
-            }
-            // j stays behind the group: whatever is moved ahead must not touch its bodies.
-            if (stamp_[xa] != member) stamp_[xa] = passed;
-            if (xb != fixed && stamp_[xb] != member) stamp_[xb] = passed;
+        // Without branches (which items join is unpredictable: a third of the items scanned
+        // are taken already): stamps only grow, so a body is free — neither a member nor
+        // passed in this window — where its stamp is below `member`. An item that does not
+        // join stays behind the group, and whatever is moved ahead must not touch its bodies.
+        // The static body's stamp is written but never read (an item is free of it).
+        const std::size_t end = std::min(items, at + kWindow + 1);
+        for (std::size_t j = at + 1; j < end && n < WideGroup::kLanes; ++j) {
+            const ItemBodies& x = item_bodies_[j];
+            const std::uint32_t sa = stamp_[x.a], sb = stamp_[x.b];
+            const bool open = taken_[j] == 0; // not in a group already
+            const bool joins = open & (x.kind == count) & (sa < member) & ((x.b == fixed) | (sb < member));
+            stamp_[x.a] = !open ? sa : joins || sa == member ? member : passed;
+            stamp_[x.b] = !open ? sb : joins || sb == member ? member : passed;
+            found[n] = j;
+            n += joins ? 1 : 0;
         }
         if (n < WideGroup::kLanes) {
             --left[count];
@@ -121,77 +121,30 @@ void pad_points(const Block& k, WideGroup& g, int l) {
     }
 }
 
-/// The lane's last set and its inverse, padded: E[i][j] = (K_SS + 1e-9 diag)⁻¹ at the places
-/// of points i, j of S, zero elsewhere (try_set's sums over S, with zero terms between).
-void pad_last(const Block& k, WideGroup& g, int l) {
-    g.known[l] = k.last_known ? 1 : 0;
-    for (int j = 0; j < 4; ++j) g.in[j][l] = k.last_known && (k.last_set & (1u << j)) != 0 ? 1 : 0;
-    for (int e = 0; e < 16; ++e) g.last[e][l] = 0;
+/// A block's last set and its inverse, padded: in[j] = 1 for the points j of S, and
+/// last[4i + j] = (K_SS + 1e-9 diag)⁻¹ at the places of points i, j of S, zero elsewhere
+/// (try_set's sums over S, with zero terms between).
+void padded_last(const Block& k, double* in, double* last) {
+    for (int j = 0; j < 4; ++j) in[j] = k.last_known && (k.last_set & (1u << j)) != 0 ? 1 : 0;
+    for (int e = 0; e < 16; ++e) last[e] = 0;
     if (!k.last_known) return;
     int idx[4], n = 0;
     for (int j = 0; j < 4; ++j)
         if (k.last_set & (1u << j)) idx[n++] = j;
     for (int p = 0; p < n; ++p)
-        for (int q = 0; q < n; ++q) g.last[4 * idx[p] + idx[q]][l] = k.last_inv[4 * p + q];
+        for (int q = 0; q < n; ++q) last[4 * idx[p] + idx[q]] = k.last_inv[4 * p + q];
+}
+
+/// The block's last set in lane l (padded_last).
+void pad_last(const Block& k, WideGroup& g, int l) {
+    double in[4], last[16];
+    padded_last(k, in, last);
+    g.known[l] = k.last_known ? 1 : 0;
+    for (int j = 0; j < 4; ++j) g.in[j][l] = in[j];
+    for (int e = 0; e < 16; ++e) g.last[e][l] = last[e];
 }
 
 } // namespace
-
-void Solver::load_groups(bool constants) {
-    for (WideGroup& g : groups_) {
-        if (!constants) { // the impulses, biases and last sets only
-            for (int l = 0; l < WideGroup::kLanes; ++l) {
-                if (g.count == 1) {
-                    const Row& c = rows_[g.block[l]];
-                    g.jn[0][l] = c.jn, g.jt1[l] = c.jt1, g.jt2[l] = c.jt2, g.bias[0][l] = c.bias;
-                    continue;
-                }
-                const Block& k = blocks_[g.block[l]];
-                g.jt1[l] = k.jt1, g.jt2[l] = k.jt2, g.jtw[l] = k.jtw;
-                for (int j = 0; j < 4; ++j) g.jn[j][l] = k.jn[j], g.bias[j][l] = k.bias[j];
-                pad_points(k, g, l);
-                pad_last(k, g, l);
-            }
-            continue;
-        }
-        for (int l = 0; l < WideGroup::kLanes; ++l) { // the lanes' bodies, both kinds of group
-            const std::uint32_t a = g.count == 1 ? rows_[g.block[l]].a : blocks_[g.block[l]].a;
-            const std::uint32_t b = g.count == 1 ? rows_[g.block[l]].b : blocks_[g.block[l]].b;
-            g.a[l] = a, g.b[l] = b;
-            g.aim[l] = bodies_[a].im, g.bim[l] = bodies_[b].im;
-            for (int e = 0; e < 6; ++e) g.aii[e][l] = bodies_[a].ii[e], g.bii[e][l] = bodies_[b].ii[e];
-        }
-        if (g.count == 1) { // point rows: ra, rb their lever arms, jn[0], bias[0]
-            for (int l = 0; l < WideGroup::kLanes; ++l) {
-                const Row& c = rows_[g.block[l]];
-                for (int d = 0; d < 3; ++d) {
-                    g.n[d][l] = c.n[d], g.ra[d][l] = c.xa[d], g.rb[d][l] = c.xb[d];
-                    g.t1[d][l] = c.t1[d], g.t2[d][l] = c.t2[d];
-                }
-                g.mn[l] = c.mn, g.mt1[l] = c.mt1, g.mt2[l] = c.mt2, g.mu[l] = c.mu;
-                g.jn[0][l] = c.jn, g.jt1[l] = c.jt1, g.jt2[l] = c.jt2, g.bias[0][l] = c.bias;
-            }
-            continue;
-        }
-        for (int l = 0; l < WideGroup::kLanes; ++l) {
-            const Block& k = blocks_[g.block[l]];
-            for (int d = 0; d < 3; ++d) {
-                g.n[d][l] = k.n[d], g.ra[d][l] = k.ra[d], g.rb[d][l] = k.rb[d];
-                g.t1[d][l] = k.t1[d], g.t2[d][l] = k.t2[d], g.off[d][l] = k.off[d];
-            }
-            g.mt1[l] = k.mt1, g.mt2[l] = k.mt2, g.mtw[l] = k.mtw, g.reach[l] = k.reach, g.mu[l] = k.mu;
-            g.jt1[l] = k.jt1, g.jt2[l] = k.jt2, g.jtw[l] = k.jtw;
-            for (int j = 0; j < 4; ++j) {
-                g.jn[j][l] = k.jn[j], g.bias[j][l] = k.bias[j];
-                for (int d = 0; d < 3; ++d) g.ua[j][d][l] = k.ua[j][d];
-            }
-            for (int e = 0; e < 16; ++e) g.k[e][l] = k.k[e], g.inv[e][l] = k.inv[e];
-            g.points[l] = static_cast<double>(k.count);
-            pad_points(k, g, l);
-            pad_last(k, g, l); // the collisions may have solved the block already
-        }
-    }
-}
 
 void Solver::store_groups() {
     for (const WideGroup& g : groups_)
@@ -233,6 +186,14 @@ Mask select(const Mask& m, const Mask& a, const Mask& b) { return (m & a) | (~m 
 bool all_lanes(const Mask& m) { return (m[0] & m[1] & m[2] & m[3]) != 0; }
 bool any_lane(const Mask& m) { return (m[0] | m[1] | m[2] | m[3]) != 0; }
 
+/// out[i][l] = r[l][i]: four lanes' rows of four values as four lane vectors (gather's shuffles).
+void transpose4(const V* r, V* out) {
+    const V t0 = __builtin_shuffle(r[0], r[1], Mask{0, 4, 2, 6}), t1 = __builtin_shuffle(r[0], r[1], Mask{1, 5, 3, 7});
+    const V t2 = __builtin_shuffle(r[2], r[3], Mask{0, 4, 2, 6}), t3 = __builtin_shuffle(r[2], r[3], Mask{1, 5, 3, 7});
+    out[0] = __builtin_shuffle(t0, t2, Mask{0, 1, 4, 5}), out[2] = __builtin_shuffle(t0, t2, Mask{2, 3, 6, 7});
+    out[1] = __builtin_shuffle(t1, t3, Mask{0, 1, 4, 5}), out[3] = __builtin_shuffle(t1, t3, Mask{2, 3, 6, 7});
+}
+
 /// clamp_disk in each lane.
 void clamp_disk_lanes(V& n1, V& n2, const V& limit) {
     const V q = n1 * n1 + n2 * n2;
@@ -269,20 +230,17 @@ struct LaneBodies {
             const char* x = reinterpret_cast<const char*>(&bodies[at[l]]) + offsetof(Body, v);
             std::memcpy(&r[l], x, sizeof(V)), std::memcpy(&s[l], x + 4 * sizeof(double), sizeof(V));
         }
-        const V t0 = __builtin_shuffle(r[0], r[1], Mask{0, 4, 2, 6}), t1 = __builtin_shuffle(r[0], r[1], Mask{1, 5, 3, 7});
-        const V t2 = __builtin_shuffle(r[2], r[3], Mask{0, 4, 2, 6}), t3 = __builtin_shuffle(r[2], r[3], Mask{1, 5, 3, 7});
-        v[0] = __builtin_shuffle(t0, t2, Mask{0, 1, 4, 5}), v[2] = __builtin_shuffle(t0, t2, Mask{2, 3, 6, 7});
-        v[1] = __builtin_shuffle(t1, t3, Mask{0, 1, 4, 5}), w[0] = __builtin_shuffle(t1, t3, Mask{2, 3, 6, 7});
-        const V u0 = __builtin_shuffle(s[0], s[1], Mask{0, 4, 2, 6}), u1 = __builtin_shuffle(s[0], s[1], Mask{1, 5, 3, 7});
-        const V u2 = __builtin_shuffle(s[2], s[3], Mask{0, 4, 2, 6}), u3 = __builtin_shuffle(s[2], s[3], Mask{1, 5, 3, 7});
-        w[1] = __builtin_shuffle(u0, u2, Mask{0, 1, 4, 5}), w[2] = __builtin_shuffle(u1, u3, Mask{0, 1, 4, 5});
+        V c[4];
+        transpose4(r, c);
+        v[0] = c[0], v[1] = c[1], v[2] = c[2], w[0] = c[3];
+        transpose4(s, c); // ω₁ ω₂ (p₀ p₁ unused)
+        w[1] = c[0], w[2] = c[1];
     }
     /// gather's inverse: v and ω of the lanes' bodies written back, the static body `fixed` left alone.
     static void scatter(std::vector<Body>& bodies, const std::uint32_t* at, const V* v, const V* w, std::size_t fixed) {
-        const V t0 = __builtin_shuffle(v[0], v[1], Mask{0, 4, 2, 6}), t1 = __builtin_shuffle(v[0], v[1], Mask{1, 5, 3, 7});
-        const V t2 = __builtin_shuffle(v[2], w[0], Mask{0, 4, 2, 6}), t3 = __builtin_shuffle(v[2], w[0], Mask{1, 5, 3, 7});
-        const V row[4] = {__builtin_shuffle(t0, t2, Mask{0, 1, 4, 5}), __builtin_shuffle(t1, t3, Mask{0, 1, 4, 5}),
-                          __builtin_shuffle(t0, t2, Mask{2, 3, 6, 7}), __builtin_shuffle(t1, t3, Mask{2, 3, 6, 7})};
+        const V columns[4] = {v[0], v[1], v[2], w[0]};
+        V row[4];
+        transpose4(columns, row);
         const V p0 = __builtin_shuffle(w[1], w[2], Mask{0, 4, 2, 6}), p1 = __builtin_shuffle(w[1], w[2], Mask{1, 5, 3, 7});
         // Lane l's ω₁ ω₂: the low (l even) or high half of p0 (l = 0, 2) or p1 (l = 1, 3).
         auto put = [&](int l, const V& pair, int half) {
@@ -521,6 +479,111 @@ void apply_normals(LaneBodies& lanes, const Mask& go, const V* l, const V (*ua)[
     bw[1] = select(go, bw[1] - wb1, bw[1]);
     bw[2] = select(go, bw[2] - wb2, bw[2]);
 }
+
+
+/// A group's four items (blocks, rows or bodies), one a lane, whose values load_groups copies
+/// into the group's lane vectors: whole 32-byte rows of the group written one after another
+/// (a group is 4 kB, most of it not in the cache; written lane by lane, its lines were
+/// fetched out of order: 4 % of a pile's time).
+template <class Item>
+struct LaneItems {
+    const Item* x[WideGroup::kLanes];
+    /// dst[i][l] = member(item l)[i] for i < N, in fours by transposes.
+    template <int N, class F>
+    void array(F member, double (*dst)[WideGroup::kLanes]) const {
+        const double* src[4] = {member(*x[0]), member(*x[1]), member(*x[2]), member(*x[3])};
+        int i = 0;
+        for (; i + 4 <= N; i += 4) {
+            V r[4], c[4];
+            for (int l = 0; l < 4; ++l) r[l] = load(src[l] + i);
+            transpose4(r, c);
+            for (int j = 0; j < 4; ++j) store(dst[i + j], c[j]);
+        }
+        for (; i < N; ++i) store(dst[i], V{src[0][i], src[1][i], src[2][i], src[3][i]});
+    }
+    /// dst[l] = member(item l).
+    template <class F>
+    void scalar(F member, double* dst) const {
+        store(dst, V{member(*x[0]), member(*x[1]), member(*x[2]), member(*x[3])});
+    }
+};
+
+} // namespace
+
+void Solver::load_groups(bool constants) {
+    for (WideGroup& g : groups_) {
+        if (constants) { // the lanes' bodies, both kinds of group
+            LaneItems<Body> lanes;
+            for (int l = 0; l < WideGroup::kLanes; ++l) {
+                g.a[l] = g.count == 1 ? rows_[g.block[l]].a : blocks_[g.block[l]].a;
+                g.b[l] = g.count == 1 ? rows_[g.block[l]].b : blocks_[g.block[l]].b;
+                lanes.x[l] = &bodies_[g.a[l]];
+            }
+            lanes.scalar([](const Body& x) { return x.im; }, g.aim);
+            lanes.array<6>([](const Body& x) { return x.ii; }, g.aii);
+            for (int l = 0; l < WideGroup::kLanes; ++l) lanes.x[l] = &bodies_[g.b[l]];
+            lanes.scalar([](const Body& x) { return x.im; }, g.bim);
+            lanes.array<6>([](const Body& x) { return x.ii; }, g.bii);
+        }
+        if (g.count == 1) { // point rows: ra, rb their lever arms, jn[0], bias[0]
+            LaneItems<Row> rows;
+            for (int l = 0; l < WideGroup::kLanes; ++l) rows.x[l] = &rows_[g.block[l]];
+            if (constants) {
+                rows.array<3>([](const Row& c) { return c.n; }, g.n);
+                rows.array<3>([](const Row& c) { return c.xa; }, g.ra);
+                rows.array<3>([](const Row& c) { return c.xb; }, g.rb);
+                rows.array<3>([](const Row& c) { return c.t1; }, g.t1);
+                rows.array<3>([](const Row& c) { return c.t2; }, g.t2);
+                rows.scalar([](const Row& c) { return c.mn; }, g.mn);
+                rows.scalar([](const Row& c) { return c.mt1; }, g.mt1);
+                rows.scalar([](const Row& c) { return c.mt2; }, g.mt2);
+                rows.scalar([](const Row& c) { return c.mu; }, g.mu);
+            }
+            rows.scalar([](const Row& c) { return c.jn; }, g.jn[0]);
+            rows.scalar([](const Row& c) { return c.jt1; }, g.jt1);
+            rows.scalar([](const Row& c) { return c.jt2; }, g.jt2);
+            rows.scalar([](const Row& c) { return c.bias; }, g.bias[0]);
+            continue;
+        }
+        LaneItems<Block> blocks;
+        for (int l = 0; l < WideGroup::kLanes; ++l) blocks.x[l] = &blocks_[g.block[l]];
+        if (constants) {
+            blocks.array<3>([](const Block& k) { return k.n; }, g.n);
+            blocks.array<3>([](const Block& k) { return k.ra; }, g.ra);
+            blocks.array<3>([](const Block& k) { return k.rb; }, g.rb);
+            blocks.array<3>([](const Block& k) { return k.t1; }, g.t1);
+            blocks.array<3>([](const Block& k) { return k.t2; }, g.t2);
+            blocks.array<3>([](const Block& k) { return k.off; }, g.off);
+            blocks.scalar([](const Block& k) { return k.mt1; }, g.mt1);
+            blocks.scalar([](const Block& k) { return k.mt2; }, g.mt2);
+            blocks.scalar([](const Block& k) { return k.mtw; }, g.mtw);
+            blocks.scalar([](const Block& k) { return k.reach; }, g.reach);
+            blocks.scalar([](const Block& k) { return k.mu; }, g.mu);
+            blocks.scalar([](const Block& k) { return static_cast<double>(k.count); }, g.points);
+            blocks.array<12>([](const Block& k) { return &k.ua[0][0]; }, &g.ua[0][0]);
+            blocks.array<16>([](const Block& k) { return k.k; }, g.k);
+            blocks.array<16>([](const Block& k) { return k.inv; }, g.inv);
+        }
+        blocks.scalar([](const Block& k) { return k.jt1; }, g.jt1);
+        blocks.scalar([](const Block& k) { return k.jt2; }, g.jt2);
+        blocks.scalar([](const Block& k) { return k.jtw; }, g.jtw);
+        blocks.array<4>([](const Block& k) { return k.jn; }, g.jn);
+        blocks.array<4>([](const Block& k) { return k.bias; }, g.bias);
+        for (int l = 0; l < WideGroup::kLanes; ++l) pad_points(*blocks.x[l], g, l);
+        // pad_last of the four lanes (the collisions may have solved a block already), each
+        // lane's padded set and inverse transposed into the group.
+        struct Padded {
+            double in[4], last[16];
+        } padded[WideGroup::kLanes];
+        for (int l = 0; l < WideGroup::kLanes; ++l) padded_last(*blocks.x[l], padded[l].in, padded[l].last);
+        blocks.scalar([](const Block& k) { return k.last_known ? 1.0 : 0.0; }, g.known);
+        LaneItems<Padded> pads{{&padded[0], &padded[1], &padded[2], &padded[3]}};
+        pads.array<4>([](const Padded& x) { return x.in; }, g.in);
+        pads.array<16>([](const Padded& x) { return x.last; }, g.last);
+    }
+}
+
+namespace {
 
 } // namespace
 
