@@ -82,8 +82,13 @@ void Solver::pack_groups() {
             const std::uint32_t sa = stamp_[x.a], sb = stamp_[x.b];
             const bool open = taken_[j] == 0; // not in a group already
             const bool joins = open & (x.kind == count) & (sa < member) & ((x.b == fixed) | (sb < member));
-            stamp_[x.a] = !open ? sa : joins || sa == member ? member : passed;
-            stamp_[x.b] = !open ? sb : joins || sb == member ? member : passed;
+            // The new stamps as masks (GCC turns the plain conditionals back into branches):
+            // an open item's bodies become members if it joins (or were), else passed.
+            const std::uint32_t keep = open ? 0u : ~0u; // all bits where the stamp stays
+            const std::uint32_t ta = passed - static_cast<std::uint32_t>(joins | (sa == member));
+            const std::uint32_t tb = passed - static_cast<std::uint32_t>(joins | (sb == member));
+            stamp_[x.a] = (sa & keep) | (ta & ~keep);
+            stamp_[x.b] = (sb & keep) | (tb & ~keep);
             found[n] = j;
             n += joins ? 1 : 0;
         }
