@@ -316,6 +316,10 @@ void Solver::setup_rows(double dt) {
             split_[c.b] += 1;
         }
     }
+    // A row's minimum normal velocity: the speculative −max(sep, 0)/dt, or, before linear
+    // position passes, their target −sep − slop (push_positions sets the speculative one after).
+    const double slop = options_.slop;
+    auto bias = [&](double sep) { return linear ? -sep - slop : -std::max(sep, 0.0) / dt; };
     // The rows of a manifold of 2+ points form a block (setup_blocks), whose friction acts at
     // its centre with the block's own effective masses and the first row's μ: its rows need
     // only their normal's (solve_block_normal's fallback).
@@ -363,7 +367,7 @@ void Solver::setup_rows(double dt) {
                 c.mt1 = in_block ? 0.0 : 1 / point_inverse_mass(A, B, c.xa, c.xb, c.t1, sa, sb);
                 c.mt2 = in_block ? 0.0 : 1 / point_inverse_mass(A, B, c.xa, c.xb, c.t2, sa, sb);
             }
-            c.bias = -std::max(c.sep, 0.0) / dt;
+            c.bias = bias(c.sep);
             if (in_block && !first_of_block) {
                 c.mu = 0;
                 continue;
@@ -395,7 +399,7 @@ void Solver::setup_rows(double dt) {
             c.mt1 = 1 / (im + sa * c.ra * c.ra * quad(A.ii, c.t2) + sb * c.rb * c.rb * quad(B.ii, c.t2));
             c.mt2 = 1 / (im + sa * c.ra * c.ra * quad(A.ii, c.t1) + sb * c.rb * c.rb * quad(B.ii, c.t1));
         }
-        c.bias = -std::max(c.sep, 0.0) / dt;
+        c.bias = bias(c.sep);
         // μ from the sliding speed before the solve.
         double vt1, vt2;
         tangent_velocity(c, A, B, vt1, vt2);

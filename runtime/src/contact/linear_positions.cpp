@@ -69,8 +69,7 @@ void Solver::push_positions(double dt) {
             X.v[d] = X.w[d] = 0;
         }
     }
-    const double slop = options_.slop;
-    for (Row& c : rows_) c.bias = -c.sep - slop;
+    // The rows' biases are −separation − slop (setup_rows), the blocks' their rows'.
     for (Block& k : blocks_)
         for (std::size_t j = 0; j < k.count; ++j) k.bias[j] = rows_[k.first + j].bias;
     load_groups();
