@@ -530,47 +530,47 @@ void Solver::load_groups(bool constants) {
             lanes.scalar([](const Body& x) { return x.im; }, g.bim);
             lanes.array<6>([](const Body& x) { return x.ii; }, g.bii);
         }
+        // What rows and blocks both hold: the normal, the tangents, their effective masses, μ
+        // and the friction impulses.
+        auto common = [&](const auto& items) {
+            if (constants) {
+                items.template array<3>([](const auto& x) { return x.n; }, g.n);
+                items.template array<3>([](const auto& x) { return x.t1; }, g.t1);
+                items.template array<3>([](const auto& x) { return x.t2; }, g.t2);
+                items.scalar([](const auto& x) { return x.mt1; }, g.mt1);
+                items.scalar([](const auto& x) { return x.mt2; }, g.mt2);
+                items.scalar([](const auto& x) { return x.mu; }, g.mu);
+            }
+            items.scalar([](const auto& x) { return x.jt1; }, g.jt1);
+            items.scalar([](const auto& x) { return x.jt2; }, g.jt2);
+        };
         if (g.count == 1) { // point rows: ra, rb their lever arms, jn[0], bias[0]
             LaneItems<Row> rows;
             for (int l = 0; l < WideGroup::kLanes; ++l) rows.x[l] = &rows_[g.block[l]];
+            common(rows);
             if (constants) {
-                rows.array<3>([](const Row& c) { return c.n; }, g.n);
                 rows.array<3>([](const Row& c) { return c.xa; }, g.ra);
                 rows.array<3>([](const Row& c) { return c.xb; }, g.rb);
-                rows.array<3>([](const Row& c) { return c.t1; }, g.t1);
-                rows.array<3>([](const Row& c) { return c.t2; }, g.t2);
                 rows.scalar([](const Row& c) { return c.mn; }, g.mn);
-                rows.scalar([](const Row& c) { return c.mt1; }, g.mt1);
-                rows.scalar([](const Row& c) { return c.mt2; }, g.mt2);
-                rows.scalar([](const Row& c) { return c.mu; }, g.mu);
             }
             rows.scalar([](const Row& c) { return c.jn; }, g.jn[0]);
-            rows.scalar([](const Row& c) { return c.jt1; }, g.jt1);
-            rows.scalar([](const Row& c) { return c.jt2; }, g.jt2);
             rows.scalar([](const Row& c) { return c.bias; }, g.bias[0]);
             continue;
         }
         LaneItems<Block> blocks;
         for (int l = 0; l < WideGroup::kLanes; ++l) blocks.x[l] = &blocks_[g.block[l]];
+        common(blocks);
         if (constants) {
-            blocks.array<3>([](const Block& k) { return k.n; }, g.n);
             blocks.array<3>([](const Block& k) { return k.ra; }, g.ra);
             blocks.array<3>([](const Block& k) { return k.rb; }, g.rb);
-            blocks.array<3>([](const Block& k) { return k.t1; }, g.t1);
-            blocks.array<3>([](const Block& k) { return k.t2; }, g.t2);
             blocks.array<3>([](const Block& k) { return k.off; }, g.off);
-            blocks.scalar([](const Block& k) { return k.mt1; }, g.mt1);
-            blocks.scalar([](const Block& k) { return k.mt2; }, g.mt2);
             blocks.scalar([](const Block& k) { return k.mtw; }, g.mtw);
             blocks.scalar([](const Block& k) { return k.reach; }, g.reach);
-            blocks.scalar([](const Block& k) { return k.mu; }, g.mu);
             blocks.scalar([](const Block& k) { return static_cast<double>(k.count); }, g.points);
             blocks.array<12>([](const Block& k) { return &k.ua[0][0]; }, &g.ua[0][0]);
             blocks.array<16>([](const Block& k) { return k.k; }, g.k);
             blocks.array<16>([](const Block& k) { return k.inv; }, g.inv);
         }
-        blocks.scalar([](const Block& k) { return k.jt1; }, g.jt1);
-        blocks.scalar([](const Block& k) { return k.jt2; }, g.jt2);
         blocks.scalar([](const Block& k) { return k.jtw; }, g.jtw);
         blocks.array<4>([](const Block& k) { return k.jn; }, g.jn);
         blocks.array<4>([](const Block& k) { return k.bias; }, g.bias);
