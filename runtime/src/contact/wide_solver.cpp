@@ -485,7 +485,6 @@ void apply_normals(LaneBodies& lanes, const Mask& go, const V* l, const V (*ua)[
     bw[2] = select(go, bw[2] - wb2, bw[2]);
 }
 
-
 /// A group's four items (blocks, rows or bodies), one a lane, whose values load_groups copies
 /// into the group's lane vectors: whole 32-byte rows of the group written one after another
 /// (a group is 4 kB, most of it not in the cache; written lane by lane, its lines were
@@ -587,10 +586,6 @@ void Solver::load_groups(bool constants) {
         pads.array<16>([](const Padded& x) { return x.last; }, g.last);
     }
 }
-
-namespace {
-
-} // namespace
 
 template <int M>
 void Solver::solve_group(WideGroup& g) {
