@@ -1,7 +1,13 @@
 #include "phynjo/runtime/collision/broad_phase.hpp"
 
+#ifdef __AVX__
+#include <immintrin.h>
+#endif
+
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <limits>
 #include <numeric>
 #include <stdexcept>
 #include <string>
@@ -214,9 +220,27 @@ void UniformGrid::find_pairs(std::span<const AABB> boxes, std::vector<CandidateP
         found_.clear();
         by_cell_.resize(n);
         for (std::size_t k = 0; k < n; ++k) by_cell_[k] = boxes[sorted_[k]];
-        auto hit = [](const AABB& a, const AABB& c) {
-            return (a.hi.x() >= c.lo.x()) & (c.hi.x() >= a.lo.x()) & (a.hi.y() >= c.lo.y()) & (c.hi.y() >= a.lo.y()) &
-                   (a.hi.z() >= c.lo.z()) & (c.hi.z() >= a.lo.z());
+        // intersects(a, c) as two comparisons of four lanes: c's bytes from lo.x and from lo.z
+        // (both within c) against a's hi with +∞ after it and a's lo with −∞ before it, the
+        // infinities padding the lanes that read c's other corner. Boxes are finite (check_boxes).
+        using V = double __attribute__((vector_size(32)));
+        using Mask = long long __attribute__((vector_size(32)));
+        static_assert(sizeof(AABB) == 6 * sizeof(double));
+        constexpr double inf = std::numeric_limits<double>::infinity();
+        struct Probe {
+            V hi, lo;
+        };
+        auto probe = [](const AABB& a) { return Probe{V{a.hi.x(), a.hi.y(), a.hi.z(), inf}, V{-inf, a.lo.x(), a.lo.y(), a.lo.z()}}; };
+        auto hit = [](const Probe& p, const AABB& c) {
+            V from_lo, from_hi;
+            std::memcpy(&from_lo, reinterpret_cast<const char*>(&c), sizeof(V));                      // lo.x lo.y lo.z hi.x
+            std::memcpy(&from_hi, reinterpret_cast<const char*>(&c) + 2 * sizeof(double), sizeof(V)); // lo.z hi.x hi.y hi.z
+            const Mask t = (p.hi >= from_lo) & (from_hi >= p.lo);
+#ifdef __AVX__
+            return _mm256_movemask_pd(reinterpret_cast<__m256d>(t)) == 0xF;
+#else
+            return (t[0] & t[1] & t[2] & t[3]) != 0;
+#endif
         };
         static constexpr int kRows[4][2] = {{1, 0}, {-1, 1}, {0, 1}, {1, 1}}; // (dy, dz) of the rows of three
         for (std::int64_t z = 0; z < ext[2]; ++z)
@@ -225,14 +249,16 @@ void UniformGrid::find_pairs(std::span<const AABB> boxes, std::vector<CandidateP
                     const std::size_t s = dense_slot(x, y, z);
                     const std::uint32_t b = table_begin_[s], e = b + table_count_[s];
                     if (b == e) continue;
-                    for (std::uint32_t k = b; k < e; ++k) // a cell lists its boxes in index order
+                    for (std::uint32_t k = b; k < e; ++k) { // a cell lists its boxes in index order
+                        const Probe pa = probe(by_cell_[k]);
                         for (std::uint32_t m = k + 1; m < e; ++m)
-                            if (hit(by_cell_[k], by_cell_[m])) found_.push_back({sorted_[k], sorted_[m]});
+                            if (hit(pa, by_cell_[m])) found_.push_back({sorted_[k], sorted_[m]});
+                    }
                     auto run = [&](std::uint32_t f, std::uint32_t g) {
                         for (std::uint32_t k = b; k < e; ++k) {
-                            const AABB a = by_cell_[k];
+                            const Probe pa = probe(by_cell_[k]);
                             for (std::uint32_t m = f; m < g; ++m)
-                                if (hit(a, by_cell_[m])) {
+                                if (hit(pa, by_cell_[m])) {
                                     const Index i = sorted_[k], j = sorted_[m];
                                     found_.push_back({std::min(i, j), std::max(i, j)});
                                 }

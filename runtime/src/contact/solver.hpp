@@ -54,8 +54,8 @@
 
 namespace phynjo::runtime::contact_detail {
 
-// Aligned to a cache line: the lanes read v, ω and the start of p as one 64-byte row
-// (LaneBodies::gather), which then lies in one line instead of straddling two.
+// Aligned to a cache line: the lanes read v and ω as one 48-byte row (LaneBodies::gather),
+// which then lies in one line instead of straddling two.
 struct alignas(64) Body {
     double v[3], w[3], p[3];
     double im;    // 1/m (0 for a model sphere: see `model`)

@@ -16,7 +16,7 @@
 #include <cstring>
 
 namespace phynjo::runtime::contact_detail {
-
+int g_exp[4];
 namespace {
 
 /// How far ahead of a block pack_groups looks for its three partners, items.
@@ -222,24 +222,29 @@ struct LaneBodies {
         for (int e = 0; e < 6; ++e) aii[e] = load(g.aii[e]), bii[e] = load(g.bii[e]);
         aim = load(g.aim), bim = load(g.bim);
     }
-    /// v and ω of four bodies, one lane each: each body's v₀ v₁ v₂ ω₀ and ω₁ ω₂ (p₀ p₁) read
-    /// as two rows of four and transposed (Body keeps v, w, p in a row).
+    /// v and ω of four bodies, one lane each: each body's v₀ v₁ v₂ ω₀ and ω₁ ω₂ read as a row of
+    /// four and a pair, and transposed (Body keeps v and w in a row).
     static void gather(const std::vector<Body>& bodies, const std::uint32_t* at, V* v, V* w) {
-        static_assert(offsetof(Body, w) == offsetof(Body, v) + 3 * sizeof(double) &&
-                      offsetof(Body, p) == offsetof(Body, w) + 3 * sizeof(double));
-        V r[4], s[4];
-        // Unrolled, r and s stay in registers (GCC keeps the loop and its arrays on the stack
+        static_assert(offsetof(Body, w) == offsetof(Body, v) + 3 * sizeof(double));
+        // v₀ v₁ v₂ ω₀ as one row of four, ω₁ ω₂ as a pair: the same widths as scatter's stores,
+        // so that a group reading a body the group before it wrote gets the values forwarded
+        // from the stores (a load wider than the store it overlaps waits for the store to retire).
+        using V2 = double __attribute__((vector_size(16)));
+        V r[4], c[4];
+        V2 h[4];
+        // Unrolled, r and h stay in registers (GCC keeps the loop and its arrays on the stack
         // otherwise; the lanes read bodies at every pass: 4 % of a pile's instructions).
 #pragma GCC unroll 4
-        for (int l = 0; l < 4; ++l) { // the bytes of the body (v's row runs on into w and p)
+        for (int l = 0; l < 4; ++l) {
             const char* x = reinterpret_cast<const char*>(&bodies[at[l]]) + offsetof(Body, v);
-            std::memcpy(&r[l], x, sizeof(V)), std::memcpy(&s[l], x + 4 * sizeof(double), sizeof(V));
+            std::memcpy(&r[l], x, sizeof(V)), std::memcpy(&h[l], x + 4 * sizeof(double), sizeof(V2));
         }
-        V c[4];
         transpose4(r, c);
         v[0] = c[0], v[1] = c[1], v[2] = c[2], w[0] = c[3];
-        transpose4(s, c); // ω₁ ω₂ (p₀ p₁ unused)
-        w[1] = c[0], w[2] = c[1];
+        // (ω₁ ω₂ of lanes 0 and 2, then of lanes 1 and 3) → ω₁ and ω₂ of the four lanes.
+        const V x = __builtin_shufflevector(h[0], h[2], 0, 1, 2, 3), y = __builtin_shufflevector(h[1], h[3], 0, 1, 2, 3);
+        w[1] = __builtin_shuffle(x, y, Mask{0, 4, 2, 6});
+        w[2] = __builtin_shuffle(x, y, Mask{1, 5, 3, 7});
     }
     /// gather's inverse: v and ω of the lanes' bodies written back, the static body `fixed` left alone.
     static void scatter(std::vector<Body>& bodies, const std::uint32_t* at, const V* v, const V* w, std::size_t fixed) {
