@@ -438,7 +438,7 @@ void try_full_and_last(const WideGroup& g, const Mask& start, const V* b, const 
 }
 
 /// solve_lcp_of's record of a set found in lane l: the block's last set and its inverse,
-/// packed over the set's points (Block::last_inv), and the lane's padded copy (pad_last).
+/// packed over the set's points (Block::last_inv), and the lane's padded copy (as pad_last).
 template <int M>
 void record_found(Block& k, WideGroup& g, const FoundSets<M>& found, int l) {
     unsigned set = 0;
@@ -449,7 +449,13 @@ void record_found(Block& k, WideGroup& g, const FoundSets<M>& found, int l) {
     k.last_known = true;
     for (int p = 0; p < n; ++p)
         for (int q = 0; q < n; ++q) k.last_inv[4 * p + q] = found.inv[idx[p]][idx[q]][l];
-    pad_last(k, g, l);
+    // pad_last, straight from the lanes' inverse (the identity outside the set: zeroed here).
+    g.known[l] = 1;
+    for (int p = 0; p < 4; ++p) {
+        const bool pin = p < M && (set & (1u << p)) != 0;
+        g.in[p][l] = pin ? 1 : 0;
+        for (int q = 0; q < 4; ++q) g.last[4 * p + q][l] = pin && (set & (1u << q)) != 0 ? found.inv[p < M ? p : 0][q < M ? q : 0][l] : 0;
+    }
 }
 
 /// The normal impulses l_j at a block's points where `go` (solve_block's tail): v_a += Σ l_j
