@@ -6,7 +6,9 @@
 //    on a jittered lattice of spacing 0.2 m (no overlap at the start) in a 2 × 2 m box whose
 //    four sides are walls, dropped onto the ground y = 0 under g = 9.81 m/s². Restitution 0.2
 //    above 0.2 m/s, friction 0.5 everywhere, dt = 1/240 s, 20 velocity iterations in every
-//    engine, 4 s simulated, nothing put to sleep. Reported per engine: ms per step (mean over
+//    engine, 4 s simulated, nothing put to sleep. The engines run side by side, in turns of 24
+//    steps (0.1 s), so that a machine whose speed drifts (a shared or virtual one) slows them
+//    alike and the ratios hold where the times do not. Reported per engine: ms per step (mean over
 //    the run), the deepest overlap at the end (box–box and box–wall, measured the same way for
 //    all: phynjo's manifolds on the final poses), the largest speed and the fraction of boxes
 //    slower than 0.05 m/s. `ratio box_pile_1000_ode` = ODE's ms per step / ours, likewise
@@ -84,25 +86,29 @@ struct Result {
     double ms_per_step = 0, overlap = 0, max_speed = 0, at_rest = 0, stood = 0;
 };
 
-/// The engine under test, seen through three calls: step, the poses, the velocities.
+/// The engine under test, seen through three calls: step, the poses, the velocities (its state
+/// kept alive by the calls).
 struct Engine {
     std::function<void()> step;
     std::function<std::vector<Pose>()> poses;
     std::function<std::vector<Eigen::Vector3d>()> velocities;
 };
 
-/// Runs `e` over the setup's time, timing the steps alone; the standing time is checked every
-/// 0.1 s outside the timer.
-Result run(const Setup& s, Engine e) {
+/// Runs every engine over the setup's time, in turns of 24 steps, timing the steps alone; the
+/// standing time is checked after each turn (every 0.1 s), outside the timer.
+std::vector<Result> run(const Setup& s, std::vector<Engine>& engines) {
     const int steps = static_cast<int>(std::lround(s.seconds / kDt)), check = 24;
-    Result r;
-    r.stood = -1;
-    double sec = 0;
-    for (int k = 0; k < steps; k += check) {
-        const auto t0 = Clock::now();
-        for (int j = 0; j < check && k + j < steps; ++j) e.step();
-        sec += std::chrono::duration<double>(Clock::now() - t0).count();
-        if (r.stood < 0) {
+    std::vector<Result> results(engines.size());
+    std::vector<double> sec(engines.size(), 0.0);
+    for (Result& r : results) r.stood = -1;
+    for (int k = 0; k < steps; k += check)
+        for (std::size_t x = 0; x < engines.size(); ++x) {
+            Engine& e = engines[x];
+            Result& r = results[x];
+            const auto t0 = Clock::now();
+            for (int j = 0; j < check && k + j < steps; ++j) e.step();
+            sec[x] += std::chrono::duration<double>(Clock::now() - t0).count();
+            if (r.stood >= 0) continue;
             const std::vector<Pose> now = e.poses();
             for (std::size_t i = 0; i < now.size(); ++i) {
                 const Quaternion d = now[i].q * s.start[i].q.conjugate();
@@ -113,32 +119,42 @@ Result run(const Setup& s, Engine e) {
                 }
             }
         }
+    for (std::size_t x = 0; x < engines.size(); ++x) {
+        Result& r = results[x];
+        if (r.stood < 0) r.stood = s.seconds;
+        r.ms_per_step = 1e3 * sec[x] / steps;
+        // The deepest overlap, by phynjo's manifolds on the final poses, the same for every engine.
+        const std::vector<Pose> end = engines[x].poses();
+        Registry reg;
+        std::vector<RigidInit> init(end.size());
+        for (std::size_t i = 0; i < end.size(); ++i) {
+            reg.add("b" + std::to_string(i));
+            init[i].position = end[i].p;
+            init[i].orientation = end[i].q;
+        }
+        const World w =
+            make_rigid_world(reg, std::vector<RigidBody>(end.size(), RigidBody::solid_box(s.mass, Eigen::Vector3d::Constant(s.half))), init);
+        r.overlap = max_penetration(w, all_bodies(w), s.planes());
+        std::size_t slow = 0;
+        for (const auto& v : engines[x].velocities()) {
+            r.max_speed = std::max(r.max_speed, v.norm());
+            if (v.norm() < kRest) ++slow;
+        }
+        r.at_rest = static_cast<double>(slow) / static_cast<double>(end.size());
     }
-    if (r.stood < 0) r.stood = s.seconds;
-    r.ms_per_step = 1e3 * sec / steps;
-    // The deepest overlap, by phynjo's manifolds on the final poses, the same for every engine.
-    const std::vector<Pose> end = e.poses();
-    Registry reg;
-    std::vector<RigidInit> init(end.size());
-    for (std::size_t i = 0; i < end.size(); ++i) {
-        reg.add("b" + std::to_string(i));
-        init[i].position = end[i].p;
-        init[i].orientation = end[i].q;
-    }
-    const World w = make_rigid_world(reg, std::vector<RigidBody>(end.size(), RigidBody::solid_box(s.mass, Eigen::Vector3d::Constant(s.half))), init);
-    r.overlap = max_penetration(w, all_bodies(w), s.planes());
-    std::size_t slow = 0;
-    for (const auto& v : e.velocities()) {
-        r.max_speed = std::max(r.max_speed, v.norm());
-        if (v.norm() < kRest) ++slow;
-    }
-    r.at_rest = static_cast<double>(slow) / static_cast<double>(end.size());
-    return r;
+    return results;
 }
 
 // ---- phynjo ----------------------------------------------------------------------------------
 
-Result run_phynjo(const Setup& s) {
+struct PhynjoState {
+    World w;
+    Stepper st;
+    PhynjoState(World world, const Setup& s, const ContactOptions& o, const ContactMaterial& mat)
+        : w(std::move(world)), st(rigid_contact_step(Force3D::gravity(kG), all_bodies(w), s.planes(), mat, o, w.layout_ptr())) {}
+};
+
+Engine phynjo_engine(const Setup& s) {
     Registry reg;
     std::vector<RigidInit> init(s.start.size());
     for (std::size_t i = 0; i < s.start.size(); ++i) {
@@ -152,18 +168,18 @@ Result run_phynjo(const Setup& s) {
     o.velocity_iterations = kIterations;
     o.slop = 2e-5 * s.half / 0.05;
     const ContactMaterial mat{restitution_curve(s.e, s.bounce_vel), constant_curve(s.mu)};
-    Stepper st(rigid_contact_step(Force3D::gravity(kG), all_bodies(w), s.planes(), mat, o, w.layout_ptr()));
-    return run(s, {[&] { st.step(w, kDt); },
-                   [&] {
-                       std::vector<Pose> out;
-                       for (Index i = 0; i < w.size(); ++i) out.push_back({position(w, i), orientation(w, i)});
-                       return out;
-                   },
-                   [&] {
-                       std::vector<Eigen::Vector3d> out;
-                       for (Index i = 0; i < w.size(); ++i) out.push_back(velocity(w, i));
-                       return out;
-                   }});
+    auto x = std::make_shared<PhynjoState>(std::move(w), s, o, mat);
+    return {[x] { x->st.step(x->w, kDt); },
+            [x] {
+                std::vector<Pose> out;
+                for (Index i = 0; i < x->w.size(); ++i) out.push_back({position(x->w, i), orientation(x->w, i)});
+                return out;
+            },
+            [x] {
+                std::vector<Eigen::Vector3d> out;
+                for (Index i = 0; i < x->w.size(); ++i) out.push_back(velocity(x->w, i));
+                return out;
+            }};
 }
 
 // ---- ODE -------------------------------------------------------------------------------------
@@ -188,113 +204,132 @@ void ode_near(void* data, dGeomID a, dGeomID b) {
     }
 }
 
-Result run_ode(const Setup& s) {
-    dInitODE2(0);
-    OdeCtx ctx{dWorldCreate(), dJointGroupCreate(0), &s};
-    dWorldSetGravity(ctx.world, 0, -kG, 0);
-    dWorldSetQuickStepNumIterations(ctx.world, kIterations);
-    const dSpaceID space = dSweepAndPruneSpaceCreate(nullptr, dSAP_AXES_XZY);
-    for (const Plane& p : s.planes()) dCreatePlane(space, p.normal.x(), p.normal.y(), p.normal.z(), p.offset);
+/// One ODE world at a time (dInitODE2 … dCloseODE).
+struct OdeState {
+    OdeCtx ctx;
+    dSpaceID space;
     std::vector<dBodyID> bodies;
-    for (const Pose& p : s.start) {
-        const dBodyID b = dBodyCreate(ctx.world);
-        dMass m;
-        dMassSetBoxTotal(&m, s.mass, 2 * s.half, 2 * s.half, 2 * s.half);
-        dBodySetMass(b, &m);
-        dBodySetPosition(b, p.p.x(), p.p.y(), p.p.z());
-        const dQuaternion q{p.q.w, p.q.x, p.q.y, p.q.z};
-        dBodySetQuaternion(b, q);
-        dBodySetAutoDisableFlag(b, 0);
-        const dGeomID g = dCreateBox(space, 2 * s.half, 2 * s.half, 2 * s.half);
-        dGeomSetBody(g, b);
-        bodies.push_back(b);
+    explicit OdeState(const Setup& s) : ctx{(dInitODE2(0), dWorldCreate()), dJointGroupCreate(0), &s} {
+        dWorldSetGravity(ctx.world, 0, -kG, 0);
+        dWorldSetQuickStepNumIterations(ctx.world, kIterations);
+        space = dSweepAndPruneSpaceCreate(nullptr, dSAP_AXES_XZY);
+        for (const Plane& p : s.planes()) dCreatePlane(space, p.normal.x(), p.normal.y(), p.normal.z(), p.offset);
+        for (const Pose& p : s.start) {
+            const dBodyID b = dBodyCreate(ctx.world);
+            dMass m;
+            dMassSetBoxTotal(&m, s.mass, 2 * s.half, 2 * s.half, 2 * s.half);
+            dBodySetMass(b, &m);
+            dBodySetPosition(b, p.p.x(), p.p.y(), p.p.z());
+            const dQuaternion q{p.q.w, p.q.x, p.q.y, p.q.z};
+            dBodySetQuaternion(b, q);
+            dBodySetAutoDisableFlag(b, 0);
+            const dGeomID g = dCreateBox(space, 2 * s.half, 2 * s.half, 2 * s.half);
+            dGeomSetBody(g, b);
+            bodies.push_back(b);
+        }
     }
-    Result r = run(s, {[&] {
-                           dSpaceCollide(space, &ctx, &ode_near);
-                           dWorldQuickStep(ctx.world, kDt);
-                           dJointGroupEmpty(ctx.contacts);
-                       },
-                       [&] {
-                           std::vector<Pose> out;
-                           for (dBodyID b : bodies) {
-                               const dReal* p = dBodyGetPosition(b);
-                               const dReal* q = dBodyGetQuaternion(b);
-                               out.push_back({{p[0], p[1], p[2]}, Quaternion{q[0], q[1], q[2], q[3]}.normalized()});
-                           }
-                           return out;
-                       },
-                       [&] {
-                           std::vector<Eigen::Vector3d> out;
-                           for (dBodyID b : bodies) {
-                               const dReal* v = dBodyGetLinearVel(b);
-                               out.emplace_back(v[0], v[1], v[2]);
-                           }
-                           return out;
-                       }});
-    dSpaceDestroy(space);
-    dJointGroupDestroy(ctx.contacts);
-    dWorldDestroy(ctx.world);
-    dCloseODE();
-    return r;
+    OdeState(const OdeState&) = delete;
+    OdeState& operator=(const OdeState&) = delete;
+    ~OdeState() {
+        dSpaceDestroy(space);
+        dJointGroupDestroy(ctx.contacts);
+        dWorldDestroy(ctx.world);
+        dCloseODE();
+    }
+};
+
+Engine ode_engine(const Setup& s) {
+    auto x = std::make_shared<OdeState>(s);
+    return {[x] {
+                dSpaceCollide(x->space, &x->ctx, &ode_near);
+                dWorldQuickStep(x->ctx.world, kDt);
+                dJointGroupEmpty(x->ctx.contacts);
+            },
+            [x] {
+                std::vector<Pose> out;
+                for (dBodyID b : x->bodies) {
+                    const dReal* p = dBodyGetPosition(b);
+                    const dReal* q = dBodyGetQuaternion(b);
+                    out.push_back({{p[0], p[1], p[2]}, Quaternion{q[0], q[1], q[2], q[3]}.normalized()});
+                }
+                return out;
+            },
+            [x] {
+                std::vector<Eigen::Vector3d> out;
+                for (dBodyID b : x->bodies) {
+                    const dReal* v = dBodyGetLinearVel(b);
+                    out.emplace_back(v[0], v[1], v[2]);
+                }
+                return out;
+            }};
 }
 
 // ---- Bullet ----------------------------------------------------------------------------------
 
-Result run_bullet(const Setup& s) {
+struct BulletState {
     btDefaultCollisionConfiguration config;
-    btCollisionDispatcher dispatcher(&config);
+    btCollisionDispatcher dispatcher{&config};
     btDbvtBroadphase broadphase;
     btSequentialImpulseConstraintSolver solver;
-    btDiscreteDynamicsWorld world(&dispatcher, &broadphase, &solver, &config);
-    world.setGravity(btVector3(0, -kG, 0));
-    world.getSolverInfo().m_numIterations = kIterations;
-    world.getSolverInfo().m_restitutionVelocityThreshold = s.bounce_vel;
-    // Bullet multiplies the two bodies' coefficients: √x each gives x for every contact.
-    const double mu = std::sqrt(s.mu), e = std::sqrt(s.e);
+    btDiscreteDynamicsWorld world{&dispatcher, &broadphase, &solver, &config};
     std::vector<std::unique_ptr<btCollisionShape>> shapes;
     std::vector<std::unique_ptr<btDefaultMotionState>> states;
     std::vector<std::unique_ptr<btRigidBody>> bodies;
-    auto add = [&](btCollisionShape* shape, double mass, const btTransform& at) {
-        btVector3 inertia(0, 0, 0);
-        if (mass > 0) shape->calculateLocalInertia(mass, inertia);
-        states.push_back(std::make_unique<btDefaultMotionState>(at));
-        btRigidBody::btRigidBodyConstructionInfo info(mass, states.back().get(), shape, inertia);
-        info.m_restitution = e;
-        info.m_friction = mu;
-        bodies.push_back(std::make_unique<btRigidBody>(info));
-        bodies.back()->setActivationState(DISABLE_DEACTIVATION); // nothing put to sleep
-        world.addRigidBody(bodies.back().get());
-    };
-    for (const Plane& p : s.planes()) {
-        shapes.push_back(std::make_unique<btStaticPlaneShape>(btVector3(p.normal.x(), p.normal.y(), p.normal.z()), p.offset));
-        add(shapes.back().get(), 0, btTransform::getIdentity());
+    std::size_t first = 0; // the boxes: bodies after the planes
+    explicit BulletState(const Setup& s) {
+        world.setGravity(btVector3(0, -kG, 0));
+        world.getSolverInfo().m_numIterations = kIterations;
+        world.getSolverInfo().m_restitutionVelocityThreshold = s.bounce_vel;
+        // Bullet multiplies the two bodies' coefficients: √x each gives x for every contact.
+        const double mu = std::sqrt(s.mu), e = std::sqrt(s.e);
+        auto add = [&](btCollisionShape* shape, double mass, const btTransform& at) {
+            btVector3 inertia(0, 0, 0);
+            if (mass > 0) shape->calculateLocalInertia(mass, inertia);
+            states.push_back(std::make_unique<btDefaultMotionState>(at));
+            btRigidBody::btRigidBodyConstructionInfo info(mass, states.back().get(), shape, inertia);
+            info.m_restitution = e;
+            info.m_friction = mu;
+            bodies.push_back(std::make_unique<btRigidBody>(info));
+            bodies.back()->setActivationState(DISABLE_DEACTIVATION); // nothing put to sleep
+            world.addRigidBody(bodies.back().get());
+        };
+        for (const Plane& p : s.planes()) {
+            shapes.push_back(std::make_unique<btStaticPlaneShape>(btVector3(p.normal.x(), p.normal.y(), p.normal.z()), p.offset));
+            add(shapes.back().get(), 0, btTransform::getIdentity());
+        }
+        shapes.push_back(std::make_unique<btBoxShape>(btVector3(s.half, s.half, s.half)));
+        btCollisionShape* box = shapes.back().get();
+        first = bodies.size();
+        for (const Pose& p : s.start)
+            add(box, s.mass, btTransform(btQuaternion(p.q.x, p.q.y, p.q.z, p.q.w), btVector3(p.p.x(), p.p.y(), p.p.z())));
     }
-    shapes.push_back(std::make_unique<btBoxShape>(btVector3(s.half, s.half, s.half)));
-    btCollisionShape* box = shapes.back().get();
-    const std::size_t first = bodies.size();
-    for (const Pose& p : s.start)
-        add(box, s.mass, btTransform(btQuaternion(p.q.x, p.q.y, p.q.z, p.q.w), btVector3(p.p.x(), p.p.y(), p.p.z())));
-    Result r = run(s, {[&] { world.stepSimulation(kDt, 0, kDt); },
-                       [&] {
-                           std::vector<Pose> out;
-                           for (std::size_t i = first; i < bodies.size(); ++i) {
-                               const btTransform& t = bodies[i]->getCenterOfMassTransform();
-                               const btQuaternion q = t.getRotation();
-                               out.push_back({{t.getOrigin().x(), t.getOrigin().y(), t.getOrigin().z()},
-                                              Quaternion{q.w(), q.x(), q.y(), q.z()}.normalized()});
-                           }
-                           return out;
-                       },
-                       [&] {
-                           std::vector<Eigen::Vector3d> out;
-                           for (std::size_t i = first; i < bodies.size(); ++i) {
-                               const btVector3 v = bodies[i]->getLinearVelocity();
-                               out.emplace_back(v.x(), v.y(), v.z());
-                           }
-                           return out;
-                       }});
-    for (auto& b : bodies) world.removeRigidBody(b.get());
-    return r;
+    BulletState(const BulletState&) = delete;
+    BulletState& operator=(const BulletState&) = delete;
+    ~BulletState() {
+        for (auto& b : bodies) world.removeRigidBody(b.get());
+    }
+};
+
+Engine bullet_engine(const Setup& s) {
+    auto x = std::make_shared<BulletState>(s);
+    return {[x] { x->world.stepSimulation(kDt, 0, kDt); },
+            [x] {
+                std::vector<Pose> out;
+                for (std::size_t i = x->first; i < x->bodies.size(); ++i) {
+                    const btTransform& t = x->bodies[i]->getCenterOfMassTransform();
+                    const btQuaternion q = t.getRotation();
+                    out.push_back({{t.getOrigin().x(), t.getOrigin().y(), t.getOrigin().z()}, Quaternion{q.w(), q.x(), q.y(), q.z()}.normalized()});
+                }
+                return out;
+            },
+            [x] {
+                std::vector<Eigen::Vector3d> out;
+                for (std::size_t i = x->first; i < x->bodies.size(); ++i) {
+                    const btVector3 v = x->bodies[i]->getLinearVelocity();
+                    out.emplace_back(v.x(), v.y(), v.z());
+                }
+                return out;
+            }};
 }
 
 void print(const char* scene, const char* engine, const Result& r, bool standing) {
@@ -314,19 +349,22 @@ int main(int argc, char** argv) {
     const int n = static_cast<int>(pile.start.size());
     std::printf("box pile: %d cubes of side 0.1 m, 1 kg, e = 0.2 (above 0.2 m/s), mu = 0.5, dt = 1/240 s, %d iterations, 4 s, 1 thread\n",
                 n, kIterations);
-    const Result p = run_phynjo(pile);
-    print("pile", "phynjo", p, false);
+    std::vector<Engine> engines{phynjo_engine(pile)};
+    if (only == nullptr) engines.push_back(ode_engine(pile)), engines.push_back(bullet_engine(pile));
+    const std::vector<Result> r = run(pile, engines);
+    engines.clear(); // (ODE keeps one world at a time)
+    print("pile", "phynjo", r[0], false);
     if (only != nullptr) return 0;
-    const Result o = run_ode(pile);
-    print("pile", "ODE", o, false);
-    const Result b = run_bullet(pile);
-    print("pile", "Bullet", b, false);
-    std::printf("ratio box_pile_%d_ode = %.2f\n", n, o.ms_per_step / p.ms_per_step);
-    std::printf("ratio box_pile_%d_bullet = %.2f\n", n, b.ms_per_step / p.ms_per_step);
+    print("pile", "ODE", r[1], false);
+    print("pile", "Bullet", r[2], false);
+    std::printf("ratio box_pile_%d_ode = %.2f\n", n, r[1].ms_per_step / r[0].ms_per_step);
+    std::printf("ratio box_pile_%d_bullet = %.2f\n", n, r[2].ms_per_step / r[0].ms_per_step);
     const Setup pyr = pyramid(20);
     std::printf("pyramid: 20 rows, 210 cubes of side 1 m, 1 kg, mu = 0.6, dt = 1/240 s, %d iterations, 10 s; stood = seconds until a box moved 1 cm or turned 1 deg\n",
                 kIterations);
-    print("pyramid", "phynjo", run_phynjo(pyr), true);
-    print("pyramid", "ODE", run_ode(pyr), true);
-    print("pyramid", "Bullet", run_bullet(pyr), true);
+    engines = {phynjo_engine(pyr), ode_engine(pyr), bullet_engine(pyr)};
+    const std::vector<Result> q = run(pyr, engines);
+    print("pyramid", "phynjo", q[0], true);
+    print("pyramid", "ODE", q[1], true);
+    print("pyramid", "Bullet", q[2], true);
 }
