@@ -16,7 +16,7 @@
 #include <cstring>
 
 namespace phynjo::runtime::contact_detail {
-int g_exp[4];
+
 namespace {
 
 /// How far ahead of a block pack_groups looks for its three partners, items.
