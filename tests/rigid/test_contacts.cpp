@@ -233,6 +233,33 @@ TEST_CASE("contact rules over disjoint bodies run in par, bit-identical to seq o
     CHECK(a.at(kY, 0) < 0.3); // something happened: the balls fell and bounced
 }
 
+TEST_CASE("a contact rule over every other body writes no field of the bodies between them", "[contact][workflow]") {
+    // Bug caught: the warm-start cache cleared as one run of components from the rule's first
+    // body to its last, wiping the cache (or anything) of bodies that are not the rule's.
+    Registry reg;
+    std::vector<RigidInit> init(5);
+    for (int i = 0; i < 5; ++i) {
+        reg.add("ball" + std::to_string(i));
+        init[static_cast<std::size_t>(i)].position = {0.3 * i, 0.05, 0}; // resting on the ground
+    }
+    World w = make_rigid_world(reg, std::vector<RigidBody>(5, RigidBody::solid_sphere(1, 0.05)), init, contact_cache_fields());
+    const Layout& layout = w.layout();
+    // The bodies between the rule's hold cache entries of their own (another rule's, say).
+    for (Index i : {Index{1}, Index{3}})
+        for (std::size_t f = 0; f < layout.fields.size(); ++f)
+            if (layout.fields[f].rfind("wc_", 0) == 0) w.at(static_cast<FieldId>(f), i) = 100.0 + static_cast<double>(f);
+    const World before = w;
+    Stepper st(rigid_contact_step(Force3D::gravity(g), ComponentSet{0, 2, 4}, {Plane::ground()}, {}, {}, w.layout_ptr()));
+    st.run(w, 1e-3, 10);
+    for (Index i : {Index{1}, Index{3}})
+        for (std::size_t f = 0; f < layout.fields.size(); ++f) {
+            INFO(layout.describe(static_cast<FieldId>(f), i));
+            CHECK(w.at(static_cast<FieldId>(f), i) == before.at(static_cast<FieldId>(f), i));
+        }
+    // The rule's own bodies rest on the ground and keep their contact in the cache.
+    for (Index i : {Index{0}, Index{2}, Index{4}}) CHECK(w.at(layout.field("wc_partner#0"), i) != 0);
+}
+
 TEST_CASE("impacts of bodies with anisotropic inertia conserve angular momentum about the contact point", "[contact][physics]") {
     // An impulse acts at the contact point, so across a contact step (no other force) the
     // angular momentum about that point, L_c = I_W ω + m (p − c) × v, is unchanged, whatever
