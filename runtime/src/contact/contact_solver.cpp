@@ -805,7 +805,7 @@ void Solver::scatter(World& w) {
 void Solver::store_cache(World& w) {
     if (slots_.empty()) return;
     for (const Slot& s : slots_) {
-        if (ids_contiguous_ && !ids_.empty()) // one run of the field (an all_bodies set)
+        if (ids_contiguous_) // one run of the field (an all_bodies set)
             std::fill_n(&w.at(s.partner, ids_.front()), ids_.size(), 0.0);
         else
             for (Index i : ids_) w.at(s.partner, i) = 0;

@@ -361,7 +361,7 @@ public:
                               layout_->field("wc_jty#" + s), layout_->field("wc_jtz#" + s)});
         }
         shape_field_ = shape_field(*layout_);
-        ids_contiguous_ = true;
+        ids_contiguous_ = !ids_.empty();
         for (std::size_t k = 1; k < ids_.size(); ++k) ids_contiguous_ = ids_contiguous_ && ids_[k] == ids_[0] + k;
         // Scratch for kReservedContactsPerBody sphere contacts per body and one per plane,
         // reserved now so that steps allocate nothing while contacts appear (a falling pile);
@@ -613,7 +613,7 @@ private:
     std::vector<std::int64_t> sorted_;
     std::vector<WideGroup> groups_;
     std::vector<std::size_t> group_start_;
-    bool ids_contiguous_ = false; // ids_ are consecutive components (a field's values for them: one run)
+    bool ids_contiguous_ = false; // ids_ are one or more consecutive components (a field's values for them: one run)
     std::size_t n_rigid_ = 0; // ids_: the rigid bodies, then the models' spheres
     std::size_t n_capsules_ = 0; // the models' capsules: scratch bodies after the static body
     std::size_t n_boxes_ = 0;    // the models' boxes: scratch bodies after the capsules

@@ -449,13 +449,12 @@ void record_found(Block& k, WideGroup& g, const FoundSets<M>& found, int l) {
     k.last_known = true;
     for (int p = 0; p < n; ++p)
         for (int q = 0; q < n; ++q) k.last_inv[4 * p + q] = found.inv[idx[p]][idx[q]][l];
-    // pad_last, straight from the lanes' inverse (the identity outside the set: zeroed here).
+    // pad_last, without unpacking what was just packed.
     g.known[l] = 1;
-    for (int p = 0; p < 4; ++p) {
-        const bool pin = p < M && (set & (1u << p)) != 0;
-        g.in[p][l] = pin ? 1 : 0;
-        for (int q = 0; q < 4; ++q) g.last[4 * p + q][l] = pin && (set & (1u << q)) != 0 ? found.inv[p < M ? p : 0][q < M ? q : 0][l] : 0;
-    }
+    for (int j = 0; j < 4; ++j) g.in[j][l] = (set & (1u << j)) != 0 ? 1 : 0;
+    for (int e = 0; e < 16; ++e) g.last[e][l] = 0;
+    for (int p = 0; p < n; ++p)
+        for (int q = 0; q < n; ++q) g.last[4 * idx[p] + idx[q]][l] = k.last_inv[4 * p + q];
 }
 
 /// The normal impulses l_j at a block's points where `go` (solve_block's tail): v_a += Σ l_j
