@@ -382,12 +382,14 @@ struct LanePile {
                 }
         return make_rigid_world(reg, bodies, init, contact_cache_fields(32));
     }
-    /// The pile dropped for `checkpoints` × `steps` steps, in lanes or one at a time: the
-    /// world's hash and the boxes faster than 0.05 m/s at each checkpoint, and the end.
-    std::tuple<std::vector<std::uint64_t>, World, std::vector<int>> run(bool wide, int checkpoints, int steps) const {
+    /// The pile dropped for `checkpoints` × `steps` steps, in `lanes` lanes (4 or 8) or one at
+    /// a time (0): the world's hash and the boxes faster than 0.05 m/s at each checkpoint, and
+    /// the end.
+    std::tuple<std::vector<std::uint64_t>, World, std::vector<int>> run(int lanes, int checkpoints, int steps) const {
         ContactOptions o;
         o.velocity_iterations = 20;
-        o.wide = wide;
+        o.wide = lanes != 0;
+        o.lanes = lanes;
         World w = w0;
         const ContactMaterial mat{restitution_curve(0.2, 0.2), constant_curve(0.5)};
         Stepper s(rigid_contact_step(Force3D::gravity(g), all_bodies(w), planes, mat, o, w.layout_ptr()));
@@ -406,12 +408,14 @@ struct LanePile {
 
 // Catches: a lane that reads one side's inverse mass or inertia for the other's (every box of
 // the scene below weighs 1 kg, so there it cannot show), or mixes up the lanes' bodies.
-TEST_CASE("four manifolds at once in SIMD lanes give the bits of one at a time, bodies of unequal masses", "[contact][boxes][wide]") {
+TEST_CASE("manifolds at once in SIMD lanes give the bits of one at a time, bodies of unequal masses", "[contact][boxes][wide]") {
+    const int lanes = GENERATE(4, 8);
+    INFO(lanes << " lanes");
     // 48 boxes of 0.25 to 4 kg and three shapes, turned at random, dropped into a walled box.
     const double masses[4] = {0.25, 1, 4, 2}, heights[3] = {0.05, 0.02, 0.035};
     const LanePile pile(2026, 3, [&](std::size_t n) { return RigidBody::solid_box(masses[n % 4], {0.05, heights[n % 3], 0.04}); });
-    const auto [wide, end, moving] = pile.run(true, 6, 40);
-    const auto [one, end_one, moving_one] = pile.run(false, 6, 40);
+    const auto [wide, end, moving] = pile.run(lanes, 6, 40);
+    const auto [one, end_one, moving_one] = pile.run(0, 6, 40);
     for (std::size_t k = 0; k < wide.size(); ++k) {
         INFO("after " << static_cast<double>(k + 1) / 6 << " s");
         CHECK(wide[k] == one[k]);
@@ -428,13 +432,17 @@ TEST_CASE("four manifolds at once in SIMD lanes give the bits of one at a time, 
 // last set or of a set its own search finds (the lanes' inverse of K_SS, the order of the
 // sets, the set found not kept as the block's last), an impulse applied to the wrong body or
 // not stored back — and a colouring that lets two items of a colour share a moving body
-// (their order would then change the bits).
-TEST_CASE("four manifolds at once in SIMD lanes give the bits of one at a time", "[contact][boxes][wide]") {
+// (their order would then change the bits). Four lanes and eight: the eight's lanes 4 to 7
+// come from the second half of every transpose.
+TEST_CASE("manifolds at once in SIMD lanes give the bits of one at a time", "[contact][boxes][wide]") {
+    const int lanes = GENERATE(4, 8);
+    INFO(lanes << " lanes");
     // 96 cubes and flat boxes turned at random, dropped into a walled box: blocks of 2, 3 and
     // 4 points, full sets, last sets and enumerations, impacts and resting piles.
     const LanePile pile(37, 6, [](std::size_t n) { return RigidBody::solid_box(1, {0.05, n % 4 == 0 ? 0.02 : 0.05, 0.05}); });
-    const auto [wide, end, moving] = pile.run(true, 8, 60);
-    const auto [one, end_one, moving_one] = pile.run(false, 8, 60);
+    const auto [wide, end, moving] = pile.run(lanes, 8, 60);
+    static const auto one_at_a_time = pile.run(0, 8, 60); // the same for both widths: once
+    const std::vector<std::uint64_t>& one = std::get<0>(one_at_a_time);
     for (std::size_t k = 0; k < wide.size(); ++k) {
         INFO("after " << 0.25 * static_cast<double>(k + 1) << " s");
         CHECK(wide[k] == one[k]);

@@ -179,6 +179,9 @@ TEST_CASE("contact misuse is refused with a message naming what is wrong", "[con
     bad.baumgarte = 2;
     CHECK_THROWS_WITH(contact_ground(all_bodies(w), {}, bad, layout),
                       "contact_rule: the Baumgarte factor must be in [0, 1]");
+    ContactOptions odd;
+    odd.lanes = 6; // SIMD lanes come in fours and eights only
+    CHECK_THROWS_WITH(contact_ground(all_bodies(w), {}, odd, layout), "contact_rule: lanes must be 0 (the machine's), 4 or 8");
     CHECK_THROWS_WITH(contact_rule(all_bodies(w), {Plane{{0, 2, 0}, 0}}, {}, {}, layout),
                       "plane: the normal is not a unit vector");
     // A restitution curve out of range: the guarded run stops and says why.

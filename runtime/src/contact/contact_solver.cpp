@@ -738,6 +738,36 @@ void Solver::solve_block_normal(Block& k, const std::vector<Body>& from, bool la
     }
 }
 
+template <int L>
+void Solver::velocity_pass(const std::vector<Body>& from) {
+    std::vector<WideGroupOf<L>>& gs = groups<L>();
+    std::size_t group = 0;
+    for (std::size_t at = 0; at < schedule_.size(); ++at) {
+        if (group < gs.size() && group_start_[group] == at) {
+            WideGroupOf<L>& g = gs[group++];
+            switch (g.count) {
+            case 1: solve_rows(g); break;
+            case 2: solve_group<2>(g); break;
+            case 3: solve_group<3>(g); break;
+            default: solve_group<4>(g); break;
+            }
+            at += L - 1;
+            continue;
+        }
+        const std::int64_t item = schedule_[at];
+        if (item >= 0) {
+            Row& c = rows_[static_cast<std::size_t>(item)];
+            solve_row_friction(c, from);
+            solve_row_normal(c, from);
+            continue;
+        }
+        // A manifold: friction at its centre, then its points' normal impulses together.
+        Block& k = blocks_[static_cast<std::size_t>(-1 - item)];
+        solve_block_friction(k, from);
+        solve_block_normal(k, from);
+    }
+}
+
 void Solver::solve_contacts() {
     const bool jacobi = options_.scheme == ContactScheme::jacobi;
     for (Block& k : blocks_)
@@ -748,31 +778,8 @@ void Solver::solve_contacts() {
         // Friction first, limited by the normal impulse of the previous pass; Gauss–Seidel's
         // normal impulses see the friction just applied, Jacobi's the pass's start.
         const std::vector<Body>& from = jacobi ? snapshot_ : bodies_;
-        std::size_t group = 0;
-        for (std::size_t at = 0; at < schedule_.size(); ++at) {
-            if (group < groups_.size() && group_start_[group] == at) {
-                WideGroup& g = groups_[group++];
-                switch (g.count) {
-                case 1: solve_rows(g); break;
-                case 2: solve_group<2>(g); break;
-                case 3: solve_group<3>(g); break;
-                default: solve_group<4>(g); break;
-                }
-                at += WideGroup::kLanes - 1;
-                continue;
-            }
-            const std::int64_t item = schedule_[at];
-            if (item >= 0) {
-                Row& c = rows_[static_cast<std::size_t>(item)];
-                solve_row_friction(c, from);
-                solve_row_normal(c, from);
-                continue;
-            }
-            // A manifold: friction at its centre, then its points' normal impulses together.
-            Block& k = blocks_[static_cast<std::size_t>(-1 - item)];
-            solve_block_friction(k, from);
-            solve_block_normal(k, from);
-        }
+        if (lanes_ == 8) velocity_pass<8>(from);
+        else velocity_pass<4>(from);
     }
     store_groups();
     // Back into the rows (store_cache): the normal impulses, and the centre's friction cached
@@ -875,6 +882,8 @@ void validate(const std::vector<Plane>& planes, const ContactMaterial& material,
     if (!(options.slop >= 0) || !std::isfinite(options.slop))
         throw std::invalid_argument("contact_rule: the slop must be non-negative and finite");
     if (!std::isfinite(options.margin)) throw std::invalid_argument("contact_rule: the margin must be finite");
+    if (options.lanes != 0 && options.lanes != 4 && options.lanes != 8)
+        throw std::invalid_argument("contact_rule: lanes must be 0 (the machine's), 4 or 8");
 }
 
 Domain reads_of(const Layout& layout, const ComponentSet& bodies) {

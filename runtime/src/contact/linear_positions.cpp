@@ -3,7 +3,7 @@
 // its velocity and spin slots, a point's separation its separation at detection plus the
 // normal "velocity" of those (linear in them: n·(Δp_a − Δp_b) + Δθ_a·(r_a × n) − Δθ_b·(r_b × n)),
 // and the bodies moved and turned once at the end. The passes are then the velocity passes'
-// normal halves, scalar or four manifolds at once (push_group, push_rows), with no anchors
+// normal halves, scalar or four or eight manifolds at once (push_group, push_rows), with no anchors
 // re-rotated and no K refilled per pass — the pseudo-velocities of Bullet's split impulses and
 // the linearised separations of Box2D v3's solver, with the fresh corrections of Box2D v2's
 // nonlinear Gauss–Seidel: each pass removes β of the depth beyond the slop that is left.
@@ -59,6 +59,33 @@ bool Solver::push_block(Block& k, bool lanes_tried) {
     return true;
 }
 
+template <int L>
+bool Solver::position_pass() {
+    std::vector<WideGroupOf<L>>& gs = groups<L>();
+    bool any = false;
+    std::size_t group = 0;
+    for (std::size_t at = 0; at < schedule_.size(); ++at) {
+        if (group < gs.size() && group_start_[group] == at) {
+            WideGroupOf<L>& g = gs[group++];
+            bool moved = false;
+            switch (g.count) {
+            case 1: moved = push_rows(g); break;
+            case 2: moved = push_group<2>(g); break;
+            case 3: moved = push_group<3>(g); break;
+            default: moved = push_group<4>(g); break;
+            }
+            any = any || moved;
+            at += L - 1;
+            continue;
+        }
+        const std::int64_t item = schedule_[at];
+        const bool moved = item >= 0 ? push_row(rows_[static_cast<std::size_t>(item)])
+                                     : push_block(blocks_[static_cast<std::size_t>(-1 - item)]);
+        any = any || moved;
+    }
+    return any;
+}
+
 void Solver::push_positions(double dt) {
     const std::size_t nb = bodies_.size();
     saved_.resize(6 * nb);
@@ -73,30 +100,8 @@ void Solver::push_positions(double dt) {
     for (Block& k : blocks_)
         for (std::size_t j = 0; j < k.count; ++j) k.bias[j] = rows_[k.first + j].bias;
     load_groups();
-    for (int it = 0; it < options_.position_iterations; ++it) {
-        bool any = false;
-        std::size_t group = 0;
-        for (std::size_t at = 0; at < schedule_.size(); ++at) {
-            if (group < groups_.size() && group_start_[group] == at) {
-                WideGroup& g = groups_[group++];
-                bool moved = false;
-                switch (g.count) {
-                case 1: moved = push_rows(g); break;
-                case 2: moved = push_group<2>(g); break;
-                case 3: moved = push_group<3>(g); break;
-                default: moved = push_group<4>(g); break;
-                }
-                any = any || moved;
-                at += WideGroup::kLanes - 1;
-                continue;
-            }
-            const std::int64_t item = schedule_[at];
-            const bool moved = item >= 0 ? push_row(rows_[static_cast<std::size_t>(item)])
-                                         : push_block(blocks_[static_cast<std::size_t>(-1 - item)]);
-            any = any || moved;
-        }
-        if (!any) break;
-    }
+    for (int it = 0; it < options_.position_iterations; ++it)
+        if (!(lanes_ == 8 ? position_pass<8>() : position_pass<4>())) break;
     // The rows' separations after the passes, for the velocity passes' speculative bias and the
     // collisions; then the bodies moved and turned, their velocities back.
     // The velocity passes search each block's pressing points afresh: a set the corrections

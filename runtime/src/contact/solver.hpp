@@ -136,7 +136,7 @@ struct Row {
 /// (and μ Σ jn times the points' mean distance from the centre) — so that the order in which
 /// the points are visited leaves no net push or turn: a resting box stays put.
 struct Block {
-    /// Not zeroed (1 kB): fill_block writes what is read (as WideGroup's).
+    /// Not zeroed (1 kB): fill_block writes what is read (as WideGroupOf's).
     Block() {} // NOLINT(modernize-use-equals-default): = default would zero it in emplace_back
     // What the velocity passes read, together (a block's rows only when no set of points solves it).
     std::uint32_t a = 0, b = 0; // its rows' scratch bodies
@@ -173,17 +173,18 @@ struct Block {
     double subset_inv[64];
 };
 
-/// Four blocks with the same point count (or four point rows) on eight different bodies
-/// (pack_groups), laid out lane by lane so that a velocity pass solves them at once (wide_solver.cpp): their
+/// L blocks with the same point count (or L point rows) on 2L different bodies (pack_groups),
+/// laid out lane by lane so that a velocity pass solves them at once (wide_solver.cpp): their
 /// per-step constants, the impulses they accumulate, and the last set of pressing points that
-/// solved each, its inverse padded to the block's points (zero outside the set).
-struct WideGroup {
-    static constexpr int kLanes = 4;
-    static constexpr int L = kLanes;
-    /// Not zeroed (3 kB): load_groups fills what the lanes read.
-    WideGroup() {} // NOLINT(modernize-use-equals-default): = default would zero it in emplace_back
+/// solved each, its inverse padded to the block's points (zero outside the set). L = 4 (one
+/// AVX register of doubles) or 8 (one AVX-512 register).
+template <int L>
+struct WideGroupOf {
+    static constexpr int kLanes = L;
+    /// Not zeroed (3 kB at L = 4): load_groups fills what the lanes read.
+    WideGroupOf() {} // NOLINT(modernize-use-equals-default): = default would zero it in emplace_back
     std::uint32_t block[L], a[L], b[L];
-    int count = 0; // points per block (2 to 4; 4 takes blocks of 3 too, padded: points); 1: four
+    int count = 0; // points per block (2 to 4; 4 takes blocks of 3 too, padded: points); 1: L
                    // point rows (block: their rows; ra, rb their lever arms xa, xb; jn[0], bias[0]
                    // and mn their normal's)
     alignas(64) double n[3][L], ra[3][L], rb[3][L], t1[3][L], t2[3][L], off[3][L];
@@ -197,9 +198,18 @@ struct WideGroup {
     double known[L];  // 1 where the lane's last set is known
     double in[4][L];  // 1 where point j is in the lane's last set
     // The lanes' bodies' inverse masses and world inverse inertias (Body::im, ii), constant in a
-    // step: read here in order, not gathered from eight bodies at every pass.
+    // step: read here in order, not gathered from 2L bodies at every pass.
     double aim[L], bim[L], aii[6][L], bii[6][L];
 };
+
+/// The lanes ContactOptions::lanes = 0 picks: 8 where the build targets AVX-512 (32 registers
+/// of eight doubles hold a group's bodies and points), else 4 (eight lanes in 16 AVX
+/// registers would spill).
+#if defined(__AVX512F__)
+inline constexpr int kMachineLanes = 8;
+#else
+inline constexpr int kMachineLanes = 4;
+#endif
 
 inline double dot(const double* a, const double* b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 inline void mul_sym(const double* m, const double* u, double* out) {
@@ -361,6 +371,7 @@ public:
                               layout_->field("wc_jty#" + s), layout_->field("wc_jtz#" + s)});
         }
         shape_field_ = shape_field(*layout_);
+        lanes_ = options_.lanes == 0 ? kMachineLanes : options_.lanes;
         ids_contiguous_ = !ids_.empty();
         for (std::size_t k = 1; k < ids_.size(); ++k) ids_contiguous_ = ids_contiguous_ && ids_[k] == ids_[0] + k;
         // Scratch for kReservedContactsPerBody sphere contacts per body and one per plane,
@@ -398,8 +409,9 @@ public:
             taken_.reserve(5 * contacts);
             item_bodies_.reserve(5 * contacts);
             sorted_.reserve(5 * contacts);
-            groups_.reserve(contacts / WideGroup::kLanes + 1);
-            group_start_.reserve(contacts / WideGroup::kLanes + 1);
+            if (lanes_ == 8) groups8_.reserve(contacts / 8 + 1);
+            else groups4_.reserve(contacts / 4 + 1);
+            group_start_.reserve(contacts / 4 + 1);
         }
     }
 
@@ -469,10 +481,18 @@ private:
     void collisions(double dt);
     void solve_contacts();
     void setup_blocks();
-    /// Gauss–Seidel in a world of rigid bodies with shapes (options_.wide): WideGroups of four
-    /// blocks with the same point count on eight different bodies, each block moved ahead in
+    /// Gauss–Seidel in a world of rigid bodies with shapes (options_.wide): groups of lanes_
+    /// blocks with the same point count on 2 lanes_ different bodies, each block moved ahead in
     /// the schedule only past items on other bodies (so the pass's result is the schedule's).
     void pack_groups();
+    template <int L>
+    void pack_groups(std::vector<WideGroupOf<L>>& groups);
+    /// The groups of L lanes (groups4_ or groups8_).
+    template <int L>
+    std::vector<WideGroupOf<L>>& groups() {
+        if constexpr (L == 8) return groups8_;
+        else return groups4_;
+    }
     /// The friction of a row (limited by its previous normal impulse) with the velocities of
     /// `from`, applied to bodies_.
     void solve_row_friction(Row& c, const std::vector<Body>& from);
@@ -488,15 +508,21 @@ private:
     /// `constants` false: only what the warm start and the position passes change (the
     /// impulses, biases and last sets), the rest loaded already this step.
     void load_groups(bool constants = true);
+    template <int L>
+    void load_groups(std::vector<WideGroupOf<L>>& groups, bool constants);
     void store_groups();
-    /// One velocity pass over a WideGroup of M-point blocks: solve_block_friction, then
-    /// solve_block_normal, for its four blocks at once — the same operations lane by lane; a
+    /// One velocity pass over the schedule (solve_contacts), its groups in L lanes.
+    template <int L>
+    void velocity_pass(const std::vector<Body>& from);
+    /// One velocity pass over a group of M-point blocks: solve_block_friction, then
+    /// solve_block_normal, for its L blocks at once — the same operations lane by lane; a
     /// lane that neither the full set nor its last set solves goes through solve_block_normal.
-    template <int M>
-    void solve_group(WideGroup& g);
-    /// One velocity pass over a WideGroup of four point rows: solve_row_friction, then
+    template <int M, int L>
+    void solve_group(WideGroupOf<L>& g);
+    /// One velocity pass over a group of L point rows: solve_row_friction, then
     /// solve_row_normal, at once.
-    void solve_rows(WideGroup& g);
+    template <int L>
+    void solve_rows(WideGroupOf<L>& g);
     /// The friction of a block at its centre (l1, l2 along t1, t2) and its twist ltw about n.
     void apply_central(const Block& k, double l1, double l2, double ltw, std::vector<Body>& B);
     /// The normal impulses of the block (k.jn, read against k.bias) with the velocities of
@@ -545,11 +571,16 @@ private:
     /// slop (or, a block, no set of points solves it).
     bool push_row(Row& c);
     bool push_block(Block& k, bool lanes_tried = false);
-    /// push_block and push_row of a WideGroup's four blocks or rows at once (wide_solver.cpp);
+    /// push_block and push_row of a group's L blocks or rows at once (wide_solver.cpp);
     /// true if any lane moved.
-    template <int M>
-    bool push_group(WideGroup& g);
-    bool push_rows(WideGroup& g);
+    template <int M, int L>
+    bool push_group(WideGroupOf<L>& g);
+    template <int L>
+    bool push_rows(WideGroupOf<L>& g);
+    /// One position pass over the schedule (push_positions), its groups in L lanes; true if
+    /// anything moved.
+    template <int L>
+    bool position_pass();
     /// Gauss–Seidel position correction of the manifold from rows_[first] (k: its K, filled
     /// when !k.set_known); false if no point is deeper than the slop.
     bool correct_block(std::size_t first, Block& k);
@@ -611,7 +642,9 @@ private:
     std::vector<std::size_t> impacts_;      // find_slots: the first rows of the items that may strike
     std::vector<std::uint8_t> taken_;
     std::vector<std::int64_t> sorted_;
-    std::vector<WideGroup> groups_;
+    int lanes_ = 0; // the groups' lanes (options_.lanes, 0 resolved): 4 or 8
+    std::vector<WideGroupOf<4>> groups4_;
+    std::vector<WideGroupOf<8>> groups8_;
     std::vector<std::size_t> group_start_;
     bool ids_contiguous_ = false; // ids_ are one or more consecutive components (a field's values for them: one run)
     std::size_t n_rigid_ = 0; // ids_: the rigid bodies, then the models' spheres

@@ -1,6 +1,9 @@
-// The velocity passes four manifolds at a time (solver.hpp, WideGroup): four blocks of the
-// same point count (or four one-point rows, solve_rows) near each other in the schedule, on
-// eight different bodies, solved in SIMD lanes — the exact block LCP of solve_block, as Box2D v3 solves its contacts in wide lanes.
+// The velocity passes L manifolds at a time (solver.hpp, WideGroupOf): L = 4 or 8 blocks of
+// the same point count (or L one-point rows, solve_rows) near each other in the schedule, on
+// 2L different bodies, solved in SIMD lanes — the exact block LCP of solve_block, as Box2D v3
+// solves its contacts in wide lanes. Eight lanes where the build targets AVX-512 (kMachineLanes:
+// one register of eight doubles, 32 registers for a group's bodies and points), else four; the
+// transposes between the items' rows and the lanes work on fours, eight lanes being two.
 // Box2D colours its constraint graph for that, which reorders the whole pass; a pile then
 // settles worse than in the schedule's order (bodies one after another), so here a block
 // joins a group only if it shares no body with the group or with any item it is moved ahead
@@ -15,19 +18,30 @@
 #include <cstddef>
 #include <cstring>
 
+#if defined(__AVX__)
+#include <immintrin.h>
+#endif
+
 namespace phynjo::runtime::contact_detail {
 
 namespace {
 
-/// How far ahead of a block pack_groups looks for its three partners, items.
-constexpr std::size_t kWindow = 96;
+/// How far ahead of a block pack_groups looks for the L − 1 partners of a group of L, items.
+constexpr std::size_t window_of(int lanes) { return 24 * static_cast<std::size_t>(lanes); }
 
 } // namespace
 
 void Solver::pack_groups() {
-    groups_.clear();
+    groups4_.clear();
+    groups8_.clear();
     group_start_.clear();
     if (!options_.wide || options_.scheme != ContactScheme::gauss_seidel || !models_.empty() || shape_field_ < 0) return;
+    if (lanes_ == 8) pack_groups(groups8_);
+    else pack_groups(groups4_);
+}
+
+template <int L>
+void Solver::pack_groups(std::vector<WideGroupOf<L>>& groups) {
     const std::size_t fixed = ids_.size(); // the static body: read by any number of items, never changed
     const std::size_t items = schedule_.size();
     // stamp_[x]: the window (its number) that last marked body x: 2w as a member of the
@@ -40,7 +54,7 @@ void Solver::pack_groups() {
     // ride in the lanes of four-point blocks (padded: load_groups) rather than wait, rare as
     // they are, for three more of their own — 1 for a point row (a manifold of one point), 0
     // for a sphere's row (never in a group); and the items of each kind not yet placed (a kind
-    // with fewer than four left makes no group).
+    // with fewer than L left makes no group).
     item_bodies_.resize(items);
     std::size_t left[5] = {0, 0, 0, 0, 0};
     for (std::size_t at = 0; at < items; ++at) {
@@ -60,14 +74,14 @@ void Solver::pack_groups() {
         const std::int64_t item = schedule_[at];
         const std::uint32_t a = item_bodies_[at].a, b = item_bodies_[at].b;
         const std::size_t count = item_bodies_[at].kind;
-        if (count == 0 || left[count] < WideGroup::kLanes) {
+        if (count == 0 || left[count] < L) {
             --left[count];
             sorted_.push_back(item);
             continue;
         }
         ++window;
         const std::uint32_t member = 2 * window, passed = 2 * window + 1;
-        std::size_t found[WideGroup::kLanes] = {at};
+        std::size_t found[L] = {at};
         int n = 1;
         stamp_[a] = member;
         if (b != fixed) stamp_[b] = member;
@@ -76,8 +90,8 @@ void Solver::pack_groups() {
         // passed in this window — where its stamp is below `member`. An item that does not
         // join stays behind the group, and whatever is moved ahead must not touch its bodies.
         // The static body's stamp is written but never read (an item is free of it).
-        const std::size_t end = std::min(items, at + kWindow + 1);
-        for (std::size_t j = at + 1; j < end && n < WideGroup::kLanes; ++j) {
+        const std::size_t end = std::min(items, at + window_of(L) + 1);
+        for (std::size_t j = at + 1; j < end && n < L; ++j) {
             const ItemBodies& x = item_bodies_[j];
             const std::uint32_t sa = stamp_[x.a], sb = stamp_[x.b];
             const bool open = taken_[j] == 0; // not in a group already
@@ -92,17 +106,17 @@ void Solver::pack_groups() {
             found[n] = j;
             n += joins ? 1 : 0;
         }
-        if (n < WideGroup::kLanes) {
+        if (n < L) {
             --left[count];
             sorted_.push_back(item);
             continue;
         }
-        left[count] -= WideGroup::kLanes;
+        left[count] -= L;
         group_start_.push_back(sorted_.size());
-        groups_.emplace_back();
-        WideGroup& g = groups_.back();
+        groups.emplace_back();
+        WideGroupOf<L>& g = groups.back();
         g.count = static_cast<int>(count);
-        for (int l = 0; l < WideGroup::kLanes; ++l) {
+        for (int l = 0; l < L; ++l) {
             taken_[found[l]] = 1;
             sorted_.push_back(schedule_[found[l]]);
             const std::int64_t x = schedule_[found[l]];
@@ -114,11 +128,12 @@ void Solver::pack_groups() {
 
 namespace {
 
-/// A block of fewer points than its group's lanes (three in a group of four), padded with
+/// A block of fewer points than its group's lanes (three in a group of four-point blocks), padded with
 /// points that never press: no lever arm, no impulse, and a minimum velocity no point reaches
 /// (finite: 0 × −∞ would be NaN). K and K⁺ are zero beyond the block's points (fill_block), so
 /// every sum the lanes form over the padded points adds exact zeros — the block's own bits.
-void pad_points(const Block& k, WideGroup& g, int l) {
+template <int L>
+void pad_points(const Block& k, WideGroupOf<L>& g, int l) {
     for (std::size_t j = k.count; j < static_cast<std::size_t>(g.count); ++j) {
         g.jn[j][l] = 0;
         g.bias[j][l] = -1e300;
@@ -141,7 +156,8 @@ void padded_last(const Block& k, double* in, double* last) {
 }
 
 /// The block's last set in lane l (padded_last).
-void pad_last(const Block& k, WideGroup& g, int l) {
+template <int L>
+void pad_last(const Block& k, WideGroupOf<L>& g, int l) {
     double in[4], last[16];
     padded_last(k, in, last);
     g.known[l] = k.last_known ? 1 : 0;
@@ -152,118 +168,211 @@ void pad_last(const Block& k, WideGroup& g, int l) {
 } // namespace
 
 void Solver::store_groups() {
-    for (const WideGroup& g : groups_)
-        for (int l = 0; l < WideGroup::kLanes; ++l) {
-            if (g.count == 1) {
-                Row& c = rows_[g.block[l]];
-                c.jn = g.jn[0][l], c.jt1 = g.jt1[l], c.jt2 = g.jt2[l];
-                continue;
+    auto store = [&](const auto& groups) {
+        for (const auto& g : groups)
+            for (int l = 0; l < g.kLanes; ++l) {
+                if (g.count == 1) {
+                    Row& c = rows_[g.block[l]];
+                    c.jn = g.jn[0][l], c.jt1 = g.jt1[l], c.jt2 = g.jt2[l];
+                    continue;
+                }
+                Block& k = blocks_[g.block[l]];
+                k.jt1 = g.jt1[l], k.jt2 = g.jt2[l], k.jtw = g.jtw[l];
+                for (int j = 0; j < 4; ++j) k.jn[j] = g.jn[j][l];
             }
-            Block& k = blocks_[g.block[l]];
-            k.jt1 = g.jt1[l], k.jt2 = g.jt2[l], k.jtw = g.jtw[l];
-            for (int j = 0; j < 4; ++j) k.jn[j] = g.jn[j][l];
-        }
+    };
+    store(groups4_);
+    store(groups8_);
 }
 
-
-// The helpers below take and return 32-byte vectors; in a build without AVX GCC warns that
-// such a function's ABI differs from an AVX build's. They are internal and inlined: no ABI.
+// The helpers below take and return 32- and 64-byte vectors; in a build without AVX GCC warns
+// that such a function's ABI differs from an AVX build's. They are internal and inlined: no ABI.
 #pragma GCC diagnostic ignored "-Wpsabi"
 
 namespace {
 
-// Four doubles, and four lane masks (all bits set where true), as GCC's vector extensions: one
-// AVX register under -march with AVX, two SSE2 registers without.
-using V = double __attribute__((vector_size(32)));
-using Mask = long long __attribute__((vector_size(32)));
+/// L doubles, and L lane masks (all bits set where true), as GCC's vector extensions: one
+/// register under -march with AVX (L = 4) or AVX-512 (L = 8), several SSE2 registers without.
+template <int L>
+struct Lanes;
+template <>
+struct Lanes<4> {
+    using V = double __attribute__((vector_size(32)));
+    using Mask = long long __attribute__((vector_size(32)));
+};
+template <>
+struct Lanes<8> {
+    using V = double __attribute__((vector_size(64)));
+    using Mask = long long __attribute__((vector_size(64)));
+};
+template <int L>
+using LV = typename Lanes<L>::V;
+template <int L>
+using LM = typename Lanes<L>::Mask;
+// Four doubles: the unit of the transposes between items' rows and lanes.
+using V4 = Lanes<4>::V;
+using Mask4 = Lanes<4>::Mask;
 
-V load(const double* p) {
-    V v;
+/// The lane vector of a group's array (its L doubles).
+template <int L>
+[[gnu::always_inline]] inline typename Lanes<L>::V load(const double (&p)[L]) {
+    typename Lanes<L>::V v;
     std::memcpy(&v, p, sizeof v);
     return v;
 }
-void store(double* p, const V& v) { std::memcpy(p, &v, sizeof v); }
-V splat(double x) { return V{x, x, x, x}; }
-V select(const Mask& m, const V& a, const V& b) { return m ? a : b; }
-Mask select(const Mask& m, const Mask& a, const Mask& b) { return (m & a) | (~m & b); }
+template <int L>
+[[gnu::always_inline]] inline void store(double (&p)[L], const typename Lanes<L>::V& v) {
+    std::memcpy(p, &v, sizeof v);
+}
+[[gnu::always_inline]] inline V4 load4(const double* p) {
+    V4 v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+}
+[[gnu::always_inline]] inline void store4(double* p, const V4& v) { std::memcpy(p, &v, sizeof v); }
+template <class V>
+[[gnu::always_inline]] inline V splat(double x) {
+    V v;
+    for (std::size_t l = 0; l < sizeof(V) / sizeof(double); ++l) v[l] = x;
+    return v;
+}
+template <class V, class Mask>
+[[gnu::always_inline]] inline V select(const Mask& m, const V& a, const V& b) {
+    return m ? a : b;
+}
 
+/// The lanes' sign bits (a lane mask's set lanes), lane l at bit l.
+template <class Mask>
+[[gnu::always_inline]] inline unsigned lane_bits(const Mask& m) {
+#if defined(__AVX512F__)
+    if constexpr (sizeof(Mask) == 64) return _mm512_cmplt_epi64_mask(reinterpret_cast<__m512i>(m), _mm512_setzero_si512());
+#endif
+#if defined(__AVX__)
+    if constexpr (sizeof(Mask) == 32) return static_cast<unsigned>(_mm256_movemask_pd(reinterpret_cast<__m256d>(m)));
+#endif
+    unsigned bits = 0;
+    for (std::size_t l = 0; l < sizeof(Mask) / sizeof(long long); ++l) bits |= m[l] < 0 ? 1u << l : 0u;
+    return bits;
+}
 /// Whether every lane is set; whether any is.
-bool all_lanes(const Mask& m) { return (m[0] & m[1] & m[2] & m[3]) != 0; }
-bool any_lane(const Mask& m) { return (m[0] | m[1] | m[2] | m[3]) != 0; }
+template <class Mask>
+[[gnu::always_inline]] inline bool all_lanes(const Mask& m) {
+    return lane_bits(m) == (1u << (sizeof(Mask) / sizeof(long long))) - 1;
+}
+template <class Mask>
+[[gnu::always_inline]] inline bool any_lane(const Mask& m) {
+    return lane_bits(m) != 0;
+}
+
+/// Lanes 4h to 4h + 3 of v; and the lanes of two fours (or of one: L = 4).
+template <class V>
+[[gnu::always_inline]] inline V4 quarter(const V& v, int h) {
+    if constexpr (sizeof(V) == sizeof(V4)) {
+        return v;
+    } else {
+        return h == 0 ? __builtin_shufflevector(v, v, 0, 1, 2, 3) : __builtin_shufflevector(v, v, 4, 5, 6, 7);
+    }
+}
+template <int L>
+[[gnu::always_inline]] inline typename Lanes<L>::V join(const V4* q) {
+    if constexpr (L == 4) return q[0];
+    else return __builtin_shufflevector(q[0], q[1], 0, 1, 2, 3, 4, 5, 6, 7);
+}
 
 /// out[i][l] = r[l][i]: four lanes' rows of four values as four lane vectors (gather's shuffles).
-void transpose4(const V* r, V* out) {
-    const V t0 = __builtin_shuffle(r[0], r[1], Mask{0, 4, 2, 6}), t1 = __builtin_shuffle(r[0], r[1], Mask{1, 5, 3, 7});
-    const V t2 = __builtin_shuffle(r[2], r[3], Mask{0, 4, 2, 6}), t3 = __builtin_shuffle(r[2], r[3], Mask{1, 5, 3, 7});
-    out[0] = __builtin_shuffle(t0, t2, Mask{0, 1, 4, 5}), out[2] = __builtin_shuffle(t0, t2, Mask{2, 3, 6, 7});
-    out[1] = __builtin_shuffle(t1, t3, Mask{0, 1, 4, 5}), out[3] = __builtin_shuffle(t1, t3, Mask{2, 3, 6, 7});
+[[gnu::always_inline]] inline void transpose4(const V4* r, V4* out) {
+    const V4 t0 = __builtin_shuffle(r[0], r[1], Mask4{0, 4, 2, 6}), t1 = __builtin_shuffle(r[0], r[1], Mask4{1, 5, 3, 7});
+    const V4 t2 = __builtin_shuffle(r[2], r[3], Mask4{0, 4, 2, 6}), t3 = __builtin_shuffle(r[2], r[3], Mask4{1, 5, 3, 7});
+    out[0] = __builtin_shuffle(t0, t2, Mask4{0, 1, 4, 5}), out[2] = __builtin_shuffle(t0, t2, Mask4{2, 3, 6, 7});
+    out[1] = __builtin_shuffle(t1, t3, Mask4{0, 1, 4, 5}), out[3] = __builtin_shuffle(t1, t3, Mask4{2, 3, 6, 7});
 }
 
 /// clamp_disk in each lane.
-void clamp_disk_lanes(V& n1, V& n2, const V& limit) {
+template <class V>
+[[gnu::always_inline]] inline void clamp_disk_lanes(V& n1, V& n2, const V& limit) {
     const V q = n1 * n1 + n2 * n2;
-    const Mask outside = q > limit * limit;
+    const auto outside = q > limit * limit;
     if (!any_lane(outside)) return; // friction that sticks in every lane: no root, no division
     V mag;
-    for (int l = 0; l < 4; ++l) mag[l] = std::sqrt(q[l]);
-    const V s = select(mag > 0, limit / mag, splat(0));
-    const Mask scale = outside & (mag > limit);
+    for (std::size_t l = 0; l < sizeof(V) / sizeof(double); ++l) mag[l] = std::sqrt(q[l]);
+    const V s = select(mag > 0, limit / mag, splat<V>(0));
+    const auto scale = outside & (mag > limit);
     n1 = select(scale, n1 * s, n1);
     n2 = select(scale, n2 * s, n2);
 }
 
 /// The velocities, spins, inverse masses and world inverse inertias of a group's bodies, lane
 /// by lane (side a and side b), and the velocities and spins written back.
+template <int L>
 struct LaneBodies {
-    V av[3], aw[3], bv[3], bw[3], aii[6], bii[6], aim, bim;
-    LaneBodies(const std::vector<Body>& bodies, const WideGroup& g) {
+    using V = typename Lanes<L>::V;
+    using Mask = typename Lanes<L>::Mask;
+    V av[3], aw[3], bv[3], bw[3];
+    // The inverse masses and inertias stay in the group, loaded where used: held in registers
+    // through a kernel, they were spilled to the stack (a copy of what the group holds).
+    const WideGroupOf<L>& group;
+    [[gnu::always_inline]] LaneBodies(const std::vector<Body>& bodies, const WideGroupOf<L>& g) : group(g) {
         gather(bodies, g.a, av, aw);
         gather(bodies, g.b, bv, bw);
-        for (int e = 0; e < 6; ++e) aii[e] = load(g.aii[e]), bii[e] = load(g.bii[e]);
-        aim = load(g.aim), bim = load(g.bim);
     }
-    /// v and ω of four bodies, one lane each: each body's v₀ v₁ v₂ ω₀ and ω₁ ω₂ read as a row of
-    /// four and a pair, and transposed (Body keeps v and w in a row).
-    static void gather(const std::vector<Body>& bodies, const std::uint32_t* at, V* v, V* w) {
+    /// v and ω of L bodies, one lane each, by fours (gather4).
+    [[gnu::always_inline]] static void gather(const std::vector<Body>& bodies, const std::uint32_t* at, V* v, V* w) {
+        V4 c[6][L / 4];
+        for (int h = 0; h < L / 4; ++h) {
+            V4 q[6];
+            gather4(bodies, at + 4 * h, q);
+            for (int i = 0; i < 6; ++i) c[i][h] = q[i];
+        }
+        v[0] = join<L>(c[0]), v[1] = join<L>(c[1]), v[2] = join<L>(c[2]);
+        w[0] = join<L>(c[3]), w[1] = join<L>(c[4]), w[2] = join<L>(c[5]);
+    }
+    /// v₀ v₁ v₂ ω₀ ω₁ ω₂ (out[0..5]) of four bodies, one lane each: each body's v₀ v₁ v₂ ω₀ and
+    /// ω₁ ω₂ read as a row of four and a pair, and transposed (Body keeps v and w in a row).
+    [[gnu::always_inline]] static void gather4(const std::vector<Body>& bodies, const std::uint32_t* at, V4* out) {
         static_assert(offsetof(Body, w) == offsetof(Body, v) + 3 * sizeof(double));
         // v₀ v₁ v₂ ω₀ as one row of four, ω₁ ω₂ as a pair: the same widths as scatter's stores,
         // so that a group reading a body the group before it wrote gets the values forwarded
         // from the stores (a load wider than the store it overlaps waits for the store to retire).
         using V2 = double __attribute__((vector_size(16)));
-        V r[4], c[4];
+        V4 r[4];
         V2 h[4];
         // Unrolled, r and h stay in registers (GCC keeps the loop and its arrays on the stack
         // otherwise; the lanes read bodies at every pass: 4 % of a pile's instructions).
 #pragma GCC unroll 4
         for (int l = 0; l < 4; ++l) {
             const char* x = reinterpret_cast<const char*>(&bodies[at[l]]) + offsetof(Body, v);
-            std::memcpy(&r[l], x, sizeof(V)), std::memcpy(&h[l], x + 4 * sizeof(double), sizeof(V2));
+            std::memcpy(&r[l], x, sizeof(V4)), std::memcpy(&h[l], x + 4 * sizeof(double), sizeof(V2));
         }
-        transpose4(r, c);
-        v[0] = c[0], v[1] = c[1], v[2] = c[2], w[0] = c[3];
+        transpose4(r, out);
         // (ω₁ ω₂ of lanes 0 and 2, then of lanes 1 and 3) → ω₁ and ω₂ of the four lanes.
-        const V x = __builtin_shufflevector(h[0], h[2], 0, 1, 2, 3), y = __builtin_shufflevector(h[1], h[3], 0, 1, 2, 3);
-        w[1] = __builtin_shuffle(x, y, Mask{0, 4, 2, 6});
-        w[2] = __builtin_shuffle(x, y, Mask{1, 5, 3, 7});
+        const V4 x = __builtin_shufflevector(h[0], h[2], 0, 1, 2, 3), y = __builtin_shufflevector(h[1], h[3], 0, 1, 2, 3);
+        out[4] = __builtin_shuffle(x, y, Mask4{0, 4, 2, 6});
+        out[5] = __builtin_shuffle(x, y, Mask4{1, 5, 3, 7});
     }
     /// gather's inverse: v and ω of the lanes' bodies written back, the static body `fixed` left alone.
-    static void scatter(std::vector<Body>& bodies, const std::uint32_t* at, const V* v, const V* w, std::size_t fixed) {
-        const V columns[4] = {v[0], v[1], v[2], w[0]};
-        V row[4];
+    [[gnu::always_inline]] static void scatter(std::vector<Body>& bodies, const std::uint32_t* at, const V* v, const V* w, std::size_t fixed) {
+        for (int h = 0; h < L / 4; ++h) {
+            const V4 columns[4] = {quarter(v[0], h), quarter(v[1], h), quarter(v[2], h), quarter(w[0], h)};
+            scatter4(bodies, at + 4 * h, columns, quarter(w[1], h), quarter(w[2], h), fixed);
+        }
+    }
+    [[gnu::always_inline]] static void scatter4(std::vector<Body>& bodies, const std::uint32_t* at, const V4* columns, const V4& w1, const V4& w2,
+                         std::size_t fixed) {
+        V4 row[4];
         transpose4(columns, row);
-        const V p0 = __builtin_shuffle(w[1], w[2], Mask{0, 4, 2, 6}), p1 = __builtin_shuffle(w[1], w[2], Mask{1, 5, 3, 7});
+        const V4 p0 = __builtin_shuffle(w1, w2, Mask4{0, 4, 2, 6}), p1 = __builtin_shuffle(w1, w2, Mask4{1, 5, 3, 7});
         // Lane l's ω₁ ω₂: the low (l even) or high half of p0 (l = 0, 2) or p1 (l = 1, 3).
-        auto put = [&](int l, const V& pair, int half) {
+        auto put = [&](int l, const V4& pair, int half) {
             if (at[l] == fixed) return;
             char* x = reinterpret_cast<char*>(&bodies[at[l]]) + offsetof(Body, v);
-            std::memcpy(x, &row[l], sizeof(V));
+            std::memcpy(x, &row[l], sizeof(V4));
             std::memcpy(x + 4 * sizeof(double), reinterpret_cast<const char*>(&pair) + 2 * half * sizeof(double), 2 * sizeof(double));
         };
         put(0, p0, 0), put(1, p1, 0), put(2, p0, 1), put(3, p1, 1);
     }
     /// The velocity of a's point at the lever arm ra relative to b's at rb (point_velocity):
     /// (v_a + ω_a × r_a) − (v_b + ω_b × r_b).
-    void velocity_at(const V* ra, const V* rb, V* dv) const {
+    [[gnu::always_inline]] void velocity_at(const V* ra, const V* rb, V* dv) const {
         const V wa0 = aw[1] * ra[2] - aw[2] * ra[1], wa1 = aw[2] * ra[0] - aw[0] * ra[2], wa2 = aw[0] * ra[1] - aw[1] * ra[0];
         const V wb0 = bw[1] * rb[2] - bw[2] * rb[1], wb1 = bw[2] * rb[0] - bw[0] * rb[2], wb2 = bw[0] * rb[1] - bw[1] * rb[0];
         dv[0] = av[0] + wa0 - bv[0] - wb0;
@@ -272,14 +381,16 @@ struct LaneBodies {
     }
     /// The impulse p on side a and −p on side b where `go`, with the moments u (a's) and s (b's)
     /// about their centres: v_a += p/m_a, ω_a += I_a⁻¹u, v_b −= p/m_b, ω_b −= I_b⁻¹s.
-    void impulse(const Mask& go, const V& p0, const V& p1, const V& p2, const V& u0, const V& u1, const V& u2,
+    [[gnu::always_inline]] void impulse(const Mask& go, const V& p0, const V& p1, const V& p2, const V& u0, const V& u1, const V& u2,
                  const V& s0, const V& s1, const V& s2) {
-        const V ia0 = aii[0] * u0 + aii[3] * u1 + aii[4] * u2;
-        const V ia1 = aii[3] * u0 + aii[1] * u1 + aii[5] * u2;
-        const V ia2 = aii[4] * u0 + aii[5] * u1 + aii[2] * u2;
-        const V ib0 = bii[0] * s0 + bii[3] * s1 + bii[4] * s2;
-        const V ib1 = bii[3] * s0 + bii[1] * s1 + bii[5] * s2;
-        const V ib2 = bii[4] * s0 + bii[5] * s1 + bii[2] * s2;
+        const double(&aii)[6][L] = group.aii, (&bii)[6][L] = group.bii;
+        const V aim = load(group.aim), bim = load(group.bim);
+        const V ia0 = load(aii[0]) * u0 + load(aii[3]) * u1 + load(aii[4]) * u2;
+        const V ia1 = load(aii[3]) * u0 + load(aii[1]) * u1 + load(aii[5]) * u2;
+        const V ia2 = load(aii[4]) * u0 + load(aii[5]) * u1 + load(aii[2]) * u2;
+        const V ib0 = load(bii[0]) * s0 + load(bii[3]) * s1 + load(bii[4]) * s2;
+        const V ib1 = load(bii[3]) * s0 + load(bii[1]) * s1 + load(bii[5]) * s2;
+        const V ib2 = load(bii[4]) * s0 + load(bii[5]) * s1 + load(bii[2]) * s2;
         av[0] = select(go, av[0] + aim * p0, av[0]);
         av[1] = select(go, av[1] + aim * p1, av[1]);
         av[2] = select(go, av[2] + aim * p2, av[2]);
@@ -294,7 +405,7 @@ struct LaneBodies {
         bw[2] = select(go, bw[2] - ib2, bw[2]);
     }
     /// `fixed`: the static body, left at rest.
-    void scatter(std::vector<Body>& bodies, const WideGroup& g, std::size_t fixed) const {
+    [[gnu::always_inline]] void scatter(std::vector<Body>& bodies, const WideGroupOf<L>& g, std::size_t fixed) const {
         scatter(bodies, g.a, av, aw, fixed);
         scatter(bodies, g.b, bv, bw, fixed);
     }
@@ -303,10 +414,11 @@ struct LaneBodies {
 /// y = inv r on the set `in` (zero outside it, inv padded with zeros there) in the lanes of
 /// `ok`, and the lanes where that solves (try_set): y ≥ 0 on the set and the points left out
 /// not sinking (w = b + K y ≥ bias).
-template <int M>
-[[gnu::always_inline]] inline Mask solve_on_set(const WideGroup& g, Mask ok, const Mask* in, const V (*inv)[M], const V* b,
-                                                const V* r, V* y) {
-    const V zero = splat(0);
+template <int M, int L>
+[[gnu::always_inline]] inline LM<L> solve_on_set(const WideGroupOf<L>& g, LM<L> ok, const LM<L>* in, const LV<L> (*inv)[M],
+                                                 const LV<L>* b, const LV<L>* r, LV<L>* y) {
+    using V = LV<L>;
+    const V zero = splat<V>(0);
     for (int p = 0; p < M; ++p) {
         y[p] = zero;
         for (int q = 0; q < M; ++q) y[p] += inv[p][q] * r[q];
@@ -329,9 +441,10 @@ template <int M>
 /// on S alone — and y = inv r on S (zero outside it). Where it solves: y ≥ 0 on S and the
 /// points left out not sinking. Lanes where a pivot is not positive are left out (their
 /// scalar "inverse" is not one, and only the scalar search reproduces it).
-template <int M>
-Mask try_lane_set(const WideGroup& g, Mask ok, const Mask* in, const V* b, const V* r, V* y, V (*a)[M]) {
-    const V zero = splat(0), one = splat(1);
+template <int M, int L>
+LM<L> try_lane_set(const WideGroupOf<L>& g, LM<L> ok, const LM<L>* in, const LV<L>* b, const LV<L>* r, LV<L>* y, LV<L> (*a)[M]) {
+    using V = LV<L>;
+    const V zero = splat<V>(0), one = splat<V>(1);
     for (int p = 0; p < M; ++p)
         for (int q = 0; q < M; ++q) {
             const V kpq = load(g.k[4 * p + q]);
@@ -355,20 +468,22 @@ Mask try_lane_set(const WideGroup& g, Mask ok, const Mask* in, const V* b, const
 
 /// The lanes whose search found a new last set (`lanes`): its points and padded inverse, for
 /// the caller to keep in the block (record_found).
-template <int M>
+template <int M, int L>
 struct FoundSets {
-    Mask lanes;
-    Mask in[M];
-    V inv[M][M];
+    LM<L> lanes;
+    LM<L> in[M];
+    LV<L> inv[M][M];
 };
 
 /// try_full_and_last's lanes that neither the full nor the last set solves (`need`): the
 /// points the full set presses (x ≥ 0) unless they are the last set, then the points that sink
 /// without an impulse (r > 0) unless they are the last set, that guess or all the points —
 /// solve_lcp_of's order, skipping the sets it skips. Apart: the common path stays small.
-template <int M>
-[[gnu::noinline]] void search_more(const WideGroup& g, Mask need, const Mask& known, const Mask* in, const V* b, const V* r,
-                                   const V* x, V* y, Mask& last, FoundSets<M>& found) {
+template <int M, int L>
+[[gnu::noinline]] void search_more(const WideGroupOf<L>& g, LM<L> need, const LM<L>& known, const LM<L>* in, const LV<L>* b,
+                                   const LV<L>* r, const LV<L>* x, LV<L>* y, LM<L>& last, FoundSets<M, L>& found) {
+    using V = LV<L>;
+    using Mask = LM<L>;
     // The guess (the points the full set presses) unless it is the last set; then the sinking
     // points unless they are the last set, the guess or all the points.
     Mask guess[M], deep[M];
@@ -376,7 +491,7 @@ template <int M>
     Mask guess_is_last = known, deep_is_last = known, deep_is_guess = every, deep_is_all = every;
     const V points = load(g.points);
     for (int p = 0; p < M; ++p) {
-        const Mask real = splat(p) < points; // not a padded point (pad_points: never deep)
+        const Mask real = splat<V>(p) < points; // not a padded point (pad_points: never deep)
         guess[p] = (x[p] >= 0) & real;
         deep[p] = r[p] > 0;
         guess_is_last &= guess[p] == in[p];
@@ -407,10 +522,12 @@ template <int M>
 /// points left out not sinking). Where neither does, the points the full set presses, then
 /// the points that sink without an impulse — in the scalar search's order, skipping the sets
 /// it skips — each solving lane's y, `last` and `found` set.
-template <int M>
-void try_full_and_last(const WideGroup& g, const Mask& start, const V* b, const V* r, V* x, V* y, Mask& full, Mask& last,
-                       FoundSets<M>& found) {
-    const V zero = splat(0);
+template <int M, int L>
+void try_full_and_last(const WideGroupOf<L>& g, const LM<L>& start, const LV<L>* b, const LV<L>* r, LV<L>* x, LV<L>* y,
+                       LM<L>& full, LM<L>& last, FoundSets<M, L>& found) {
+    using V = LV<L>;
+    using Mask = LM<L>;
+    const V zero = splat<V>(0);
     full = start;
     found.lanes = start & ~start;
     for (int p = 0; p < M; ++p) { // try_full
@@ -439,8 +556,8 @@ void try_full_and_last(const WideGroup& g, const Mask& start, const V* b, const 
 
 /// solve_lcp_of's record of a set found in lane l: the block's last set and its inverse,
 /// packed over the set's points (Block::last_inv), and the lane's padded copy (as pad_last).
-template <int M>
-void record_found(Block& k, WideGroup& g, const FoundSets<M>& found, int l) {
+template <int M, int L>
+void record_found(Block& k, WideGroupOf<L>& g, const FoundSets<M, L>& found, int l) {
     unsigned set = 0;
     int idx[4], n = 0;
     for (int p = 0; p < M; ++p)
@@ -459,28 +576,31 @@ void record_found(Block& k, WideGroup& g, const FoundSets<M>& found, int l) {
 
 /// The normal impulses l_j at a block's points where `go` (solve_block's tail): v_a += Σ l_j
 /// n / m_a, ω_a += I_a⁻¹ Σ l_j u_j, and side b the opposite with its lever arms u_j + off.
-template <int M>
-void apply_normals(LaneBodies& lanes, const Mask& go, const V* l, const V (*ua)[3], const V* n, const V* off) {
-    const V zero = splat(0);
+template <int M, int L>
+void apply_normals(LaneBodies<L>& lanes, const LM<L>& go, const LV<L>* l) {
+    using V = LV<L>;
+    const WideGroupOf<L>& g = lanes.group; // the points' u_j, the normal and off read from the group
+    const V zero = splat<V>(0);
     V total = zero, u0 = zero, u1 = zero, u2 = zero;
     for (int j = 0; j < M; ++j) {
         total += l[j];
-        u0 += l[j] * ua[j][0];
-        u1 += l[j] * ua[j][1];
-        u2 += l[j] * ua[j][2];
+        u0 += l[j] * load(g.ua[j][0]);
+        u1 += l[j] * load(g.ua[j][1]);
+        u2 += l[j] * load(g.ua[j][2]);
     }
-    const V(&aii)[6] = lanes.aii, (&bii)[6] = lanes.bii;
-    const V wa0 = aii[0] * u0 + aii[3] * u1 + aii[4] * u2;
-    const V wa1 = aii[3] * u0 + aii[1] * u1 + aii[5] * u2;
-    const V wa2 = aii[4] * u0 + aii[5] * u1 + aii[2] * u2;
+    const V n[3] = {load(g.n[0]), load(g.n[1]), load(g.n[2])}, off[3] = {load(g.off[0]), load(g.off[1]), load(g.off[2])};
+    const double(&aii)[6][L] = lanes.group.aii, (&bii)[6][L] = lanes.group.bii;
+    const V wa0 = load(aii[0]) * u0 + load(aii[3]) * u1 + load(aii[4]) * u2;
+    const V wa1 = load(aii[3]) * u0 + load(aii[1]) * u1 + load(aii[5]) * u2;
+    const V wa2 = load(aii[4]) * u0 + load(aii[5]) * u1 + load(aii[2]) * u2;
     u0 += total * off[0];
     u1 += total * off[1];
     u2 += total * off[2];
-    const V wb0 = bii[0] * u0 + bii[3] * u1 + bii[4] * u2;
-    const V wb1 = bii[3] * u0 + bii[1] * u1 + bii[5] * u2;
-    const V wb2 = bii[4] * u0 + bii[5] * u1 + bii[2] * u2;
+    const V wb0 = load(bii[0]) * u0 + load(bii[3]) * u1 + load(bii[4]) * u2;
+    const V wb1 = load(bii[3]) * u0 + load(bii[1]) * u1 + load(bii[5]) * u2;
+    const V wb2 = load(bii[4]) * u0 + load(bii[5]) * u1 + load(bii[2]) * u2;
     V(&av)[3] = lanes.av, (&aw)[3] = lanes.aw, (&bv)[3] = lanes.bv, (&bw)[3] = lanes.bw;
-    const V aim = lanes.aim, bim = lanes.bim;
+    const V aim = load(lanes.group.aim), bim = load(lanes.group.bim);
     av[0] = select(go, av[0] + aim * total * n[0], av[0]);
     av[1] = select(go, av[1] + aim * total * n[1], av[1]);
     av[2] = select(go, av[2] + aim * total * n[2], av[2]);
@@ -495,49 +615,57 @@ void apply_normals(LaneBodies& lanes, const Mask& go, const V* l, const V (*ua)[
     bw[2] = select(go, bw[2] - wb2, bw[2]);
 }
 
-/// A group's four items (blocks, rows or bodies), one a lane, whose values load_groups copies
+/// A group's L items (blocks, rows or bodies), one a lane, whose values load_groups copies
 /// into the group's lane vectors: whole 32-byte rows of the group written one after another
 /// (a group is 4 kB, most of it not in the cache; written lane by lane, its lines were
 /// fetched out of order: 4 % of a pile's time).
-template <class Item>
+template <class Item, int L>
 struct LaneItems {
-    const Item* x[WideGroup::kLanes];
-    /// dst[i][l] = member(item l)[i] for i < N, in fours by transposes.
+    const Item* x[L];
+    /// dst[i][l] = member(item l)[i] for i < N, four lanes and four values at a time by transposes.
     template <int N, class F>
-    void array(F member, double (*dst)[WideGroup::kLanes]) const {
-        const double* src[4] = {member(*x[0]), member(*x[1]), member(*x[2]), member(*x[3])};
-        int i = 0;
-        for (; i + 4 <= N; i += 4) {
-            V r[4], c[4];
-            for (int l = 0; l < 4; ++l) r[l] = load(src[l] + i);
-            transpose4(r, c);
-            for (int j = 0; j < 4; ++j) store(dst[i + j], c[j]);
+    void array(F member, double (*dst)[L]) const {
+        for (int h = 0; h < L; h += 4) {
+            const double* src[4] = {member(*x[h]), member(*x[h + 1]), member(*x[h + 2]), member(*x[h + 3])};
+            int i = 0;
+            for (; i + 4 <= N; i += 4) {
+                V4 r[4], c[4];
+                for (int l = 0; l < 4; ++l) r[l] = load4(src[l] + i);
+                transpose4(r, c);
+                for (int j = 0; j < 4; ++j) store4(dst[i + j] + h, c[j]);
+            }
+            for (; i < N; ++i) store4(dst[i] + h, V4{src[0][i], src[1][i], src[2][i], src[3][i]});
         }
-        for (; i < N; ++i) store(dst[i], V{src[0][i], src[1][i], src[2][i], src[3][i]});
     }
     /// dst[l] = member(item l).
     template <class F>
     void scalar(F member, double* dst) const {
-        store(dst, V{member(*x[0]), member(*x[1]), member(*x[2]), member(*x[3])});
+        for (int h = 0; h < L; h += 4) store4(dst + h, V4{member(*x[h]), member(*x[h + 1]), member(*x[h + 2]), member(*x[h + 3])});
     }
 };
 
 } // namespace
 
 void Solver::load_groups(bool constants) {
-    for (WideGroup& g : groups_) {
+    if (lanes_ == 8) load_groups(groups8_, constants);
+    else load_groups(groups4_, constants);
+}
+
+template <int L>
+void Solver::load_groups(std::vector<WideGroupOf<L>>& groups, bool constants) {
+    for (WideGroupOf<L>& g : groups) {
         if (constants) { // the lanes' bodies, both kinds of group
-            LaneItems<Body> lanes;
-            for (int l = 0; l < WideGroup::kLanes; ++l) {
+            LaneItems<Body, L> lanes;
+            for (int l = 0; l < L; ++l) {
                 g.a[l] = g.count == 1 ? rows_[g.block[l]].a : blocks_[g.block[l]].a;
                 g.b[l] = g.count == 1 ? rows_[g.block[l]].b : blocks_[g.block[l]].b;
                 lanes.x[l] = &bodies_[g.a[l]];
             }
             lanes.scalar([](const Body& x) { return x.im; }, g.aim);
-            lanes.array<6>([](const Body& x) { return x.ii; }, g.aii);
-            for (int l = 0; l < WideGroup::kLanes; ++l) lanes.x[l] = &bodies_[g.b[l]];
+            lanes.template array<6>([](const Body& x) { return x.ii; }, g.aii);
+            for (int l = 0; l < L; ++l) lanes.x[l] = &bodies_[g.b[l]];
             lanes.scalar([](const Body& x) { return x.im; }, g.bim);
-            lanes.array<6>([](const Body& x) { return x.ii; }, g.bii);
+            lanes.template array<6>([](const Body& x) { return x.ii; }, g.bii);
         }
         // What rows and blocks both hold: the normal, the tangents, their effective masses, μ
         // and the friction impulses.
@@ -554,58 +682,60 @@ void Solver::load_groups(bool constants) {
             items.scalar([](const auto& x) { return x.jt2; }, g.jt2);
         };
         if (g.count == 1) { // point rows: ra, rb their lever arms, jn[0], bias[0]
-            LaneItems<Row> rows;
-            for (int l = 0; l < WideGroup::kLanes; ++l) rows.x[l] = &rows_[g.block[l]];
+            LaneItems<Row, L> rows;
+            for (int l = 0; l < L; ++l) rows.x[l] = &rows_[g.block[l]];
             common(rows);
             if (constants) {
-                rows.array<3>([](const Row& c) { return c.xa; }, g.ra);
-                rows.array<3>([](const Row& c) { return c.xb; }, g.rb);
+                rows.template array<3>([](const Row& c) { return c.xa; }, g.ra);
+                rows.template array<3>([](const Row& c) { return c.xb; }, g.rb);
                 rows.scalar([](const Row& c) { return c.mn; }, g.mn);
             }
             rows.scalar([](const Row& c) { return c.jn; }, g.jn[0]);
             rows.scalar([](const Row& c) { return c.bias; }, g.bias[0]);
             continue;
         }
-        LaneItems<Block> blocks;
-        for (int l = 0; l < WideGroup::kLanes; ++l) blocks.x[l] = &blocks_[g.block[l]];
+        LaneItems<Block, L> blocks;
+        for (int l = 0; l < L; ++l) blocks.x[l] = &blocks_[g.block[l]];
         common(blocks);
         if (constants) {
-            blocks.array<3>([](const Block& k) { return k.ra; }, g.ra);
-            blocks.array<3>([](const Block& k) { return k.rb; }, g.rb);
-            blocks.array<3>([](const Block& k) { return k.off; }, g.off);
+            blocks.template array<3>([](const Block& k) { return k.ra; }, g.ra);
+            blocks.template array<3>([](const Block& k) { return k.rb; }, g.rb);
+            blocks.template array<3>([](const Block& k) { return k.off; }, g.off);
             blocks.scalar([](const Block& k) { return k.mtw; }, g.mtw);
             blocks.scalar([](const Block& k) { return k.reach; }, g.reach);
             blocks.scalar([](const Block& k) { return static_cast<double>(k.count); }, g.points);
-            blocks.array<12>([](const Block& k) { return &k.ua[0][0]; }, &g.ua[0][0]);
-            blocks.array<16>([](const Block& k) { return k.k; }, g.k);
-            blocks.array<16>([](const Block& k) { return k.inv; }, g.inv);
+            blocks.template array<12>([](const Block& k) { return &k.ua[0][0]; }, &g.ua[0][0]);
+            blocks.template array<16>([](const Block& k) { return k.k; }, g.k);
+            blocks.template array<16>([](const Block& k) { return k.inv; }, g.inv);
         }
         blocks.scalar([](const Block& k) { return k.jtw; }, g.jtw);
-        blocks.array<4>([](const Block& k) { return k.jn; }, g.jn);
-        blocks.array<4>([](const Block& k) { return k.bias; }, g.bias);
-        for (int l = 0; l < WideGroup::kLanes; ++l) pad_points(*blocks.x[l], g, l);
-        // pad_last of the four lanes (the collisions may have solved a block already), each
+        blocks.template array<4>([](const Block& k) { return k.jn; }, g.jn);
+        blocks.template array<4>([](const Block& k) { return k.bias; }, g.bias);
+        for (int l = 0; l < L; ++l) pad_points(*blocks.x[l], g, l);
+        // pad_last of the L lanes (the collisions may have solved a block already), each
         // lane's padded set and inverse transposed into the group.
         struct Padded {
             double in[4], last[16];
-        } padded[WideGroup::kLanes];
-        for (int l = 0; l < WideGroup::kLanes; ++l) padded_last(*blocks.x[l], padded[l].in, padded[l].last);
+        } padded[L];
+        for (int l = 0; l < L; ++l) padded_last(*blocks.x[l], padded[l].in, padded[l].last);
         blocks.scalar([](const Block& k) { return k.last_known ? 1.0 : 0.0; }, g.known);
-        LaneItems<Padded> pads{{&padded[0], &padded[1], &padded[2], &padded[3]}};
-        pads.array<4>([](const Padded& x) { return x.in; }, g.in);
-        pads.array<16>([](const Padded& x) { return x.last; }, g.last);
+        LaneItems<Padded, L> pads;
+        for (int l = 0; l < L; ++l) pads.x[l] = &padded[l];
+        pads.template array<4>([](const Padded& x) { return x.in; }, g.in);
+        pads.template array<16>([](const Padded& x) { return x.last; }, g.last);
     }
 }
 
-template <int M>
-void Solver::solve_group(WideGroup& g) {
-    static_assert(WideGroup::kLanes == 4);
+template <int M, int L>
+void Solver::solve_group(WideGroupOf<L>& g) {
+    using V = LV<L>;
+    using Mask = LM<L>;
     // The lanes' bodies (distinct: pack_groups).
-    LaneBodies lanes(bodies_, g);
+    LaneBodies<L> lanes(bodies_, g);
     const V(&av)[3] = lanes.av, (&aw)[3] = lanes.aw, (&bv)[3] = lanes.bv, (&bw)[3] = lanes.bw;
     V n[3], ra[3], rb[3];
     for (int d = 0; d < 3; ++d) n[d] = load(g.n[d]), ra[d] = load(g.ra[d]), rb[d] = load(g.rb[d]);
-    const V zero = splat(0);
+    const V zero = splat<V>(0);
     // solve_block_friction and apply_central.
     {
         V dv[3];
@@ -654,7 +784,7 @@ void Solver::solve_group(WideGroup& g) {
         r[i] = load(g.bias[i]) - b[i];
     }
     Mask full, last;
-    FoundSets<M> found;
+    FoundSets<M, L> found;
     try_full_and_last<M>(g, zero == zero, b, r, x, y, full, last, found);
     // The solved lanes' impulses applied (solve_block's tail).
     const Mask solved = full | last;
@@ -664,9 +794,9 @@ void Solver::solve_group(WideGroup& g) {
         step[j] = xj - jn[j];
         store(g.jn[j], select(solved, xj, jn[j]));
     }
-    apply_normals<M>(lanes, solved, step, ua, n, off);
+    apply_normals<M>(lanes, solved, step);
     lanes.scatter(bodies_, g, ids_.size());
-    for (int l = 0; l < 4; ++l) {
+    for (int l = 0; l < L; ++l) {
         if (found.lanes[l] != 0) record_found<M>(blocks_[g.block[l]], g, found, l);
         if (solved[l] != 0) continue;
         Block& k = blocks_[g.block[l]];
@@ -677,13 +807,16 @@ void Solver::solve_group(WideGroup& g) {
     }
 }
 
-void Solver::solve_rows(WideGroup& g) {
-    // solve_row_friction then solve_row_normal of four point rows (apply_point on both sides).
-    LaneBodies lanes(bodies_, g);
+template <int L>
+void Solver::solve_rows(WideGroupOf<L>& g) {
+    using V = LV<L>;
+    using Mask = LM<L>;
+    // solve_row_friction then solve_row_normal of L point rows (apply_point on both sides).
+    LaneBodies<L> lanes(bodies_, g);
     V xa[3], xb[3], n[3], t1[3], t2[3];
     for (int d = 0; d < 3; ++d)
         xa[d] = load(g.ra[d]), xb[d] = load(g.rb[d]), n[d] = load(g.n[d]), t1[d] = load(g.t1[d]), t2[d] = load(g.t2[d]);
-    const V zero = splat(0);
+    const V zero = splat<V>(0);
     // point_velocity: (v_a + ω_a × r_a) − (v_b + ω_b × r_b).
     // apply_point(p) where `go`.
     auto apply = [&](const Mask& go, const V& p0, const V& p1, const V& p2) {
@@ -717,15 +850,17 @@ void Solver::solve_rows(WideGroup& g) {
     lanes.scatter(bodies_, g, ids_.size());
 }
 
-template <int M>
-bool Solver::push_group(WideGroup& g) {
+template <int M, int L>
+bool Solver::push_group(WideGroupOf<L>& g) {
+    using V = LV<L>;
+    using Mask = LM<L>;
     // push_block lane by lane: the bodies' v and ω are their displacements and turns so far,
     // g.bias the points' −(separation at detection) − slop.
-    LaneBodies lanes(bodies_, g);
+    LaneBodies<L> lanes(bodies_, g);
     const V(&av)[3] = lanes.av, (&aw)[3] = lanes.aw, (&bv)[3] = lanes.bv, (&bw)[3] = lanes.bw;
     V n[3], off[3];
     for (int d = 0; d < 3; ++d) n[d] = load(g.n[d]), off[d] = load(g.off[d]);
-    const V zero = splat(0);
+    const V zero = splat<V>(0);
     const V vn = (av[0] - bv[0]) * n[0] + (av[1] - bv[1]) * n[1] + (av[2] - bv[2]) * n[2] -
                  (bw[0] * off[0] + bw[1] * off[1] + bw[2] * off[2]);
     const V dw0 = aw[0] - bw[0], dw1 = aw[1] - bw[1], dw2 = aw[2] - bw[2];
@@ -739,16 +874,16 @@ bool Solver::push_group(WideGroup& g) {
     }
     if (!any_lane(deep)) return false;
     Mask full, last;
-    FoundSets<M> found;
+    FoundSets<M, L> found;
     try_full_and_last<M>(g, deep, b, r, x, y, full, last, found);
     const Mask solved = full | last;
-    const V beta = splat(options_.baumgarte);
+    const V beta = splat<V>(options_.baumgarte);
     V push[M];
     for (int j = 0; j < M; ++j) push[j] = beta * select(full, x[j], y[j]);
-    apply_normals<M>(lanes, solved, push, ua, n, off);
+    apply_normals<M>(lanes, solved, push);
     lanes.scatter(bodies_, g, ids_.size());
     bool moved = any_lane(solved);
-    for (int l = 0; l < 4; ++l) {
+    for (int l = 0; l < L; ++l) {
         if (found.lanes[l] != 0) record_found<M>(blocks_[g.block[l]], g, found, l);
         if (deep[l] == 0 || solved[l] != 0) continue;
         Block& k = blocks_[g.block[l]];
@@ -758,9 +893,12 @@ bool Solver::push_group(WideGroup& g) {
     return moved;
 }
 
-bool Solver::push_rows(WideGroup& g) {
-    // push_row of four point rows at once.
-    LaneBodies lanes(bodies_, g);
+template <int L>
+bool Solver::push_rows(WideGroupOf<L>& g) {
+    using V = LV<L>;
+    using Mask = LM<L>;
+    // push_row of L point rows at once.
+    LaneBodies<L> lanes(bodies_, g);
     V xa[3], xb[3], n[3];
     for (int d = 0; d < 3; ++d) xa[d] = load(g.ra[d]), xb[d] = load(g.rb[d]), n[d] = load(g.n[d]);
     V dv[3];
@@ -769,7 +907,7 @@ bool Solver::push_rows(WideGroup& g) {
     const V depth = load(g.bias[0]) - vn;
     const Mask go = depth > 0;
     if (!any_lane(go)) return false;
-    const V l = splat(options_.baumgarte) * depth * load(g.mn);
+    const V l = splat<V>(options_.baumgarte) * depth * load(g.mn);
     const V p0 = l * n[0], p1 = l * n[1], p2 = l * n[2];
     const V u0 = xa[1] * p2 - xa[2] * p1, u1 = xa[2] * p0 - xa[0] * p2, u2 = xa[0] * p1 - xa[1] * p0;
     const V s0 = xb[1] * p2 - xb[2] * p1, s1 = xb[2] * p0 - xb[0] * p2, s2 = xb[0] * p1 - xb[1] * p0;
@@ -778,11 +916,19 @@ bool Solver::push_rows(WideGroup& g) {
     return true;
 }
 
-template bool Solver::push_group<2>(WideGroup&);
-template bool Solver::push_group<3>(WideGroup&);
-template bool Solver::push_group<4>(WideGroup&);
-template void Solver::solve_group<2>(WideGroup&);
-template void Solver::solve_group<3>(WideGroup&);
-template void Solver::solve_group<4>(WideGroup&);
+#define PHYNJO_WIDE_LANES(L)                                                                                               \
+    template void Solver::pack_groups<L>(std::vector<WideGroupOf<L>>&);                                                    \
+    template void Solver::load_groups<L>(std::vector<WideGroupOf<L>>&, bool);                                              \
+    template void Solver::solve_rows<L>(WideGroupOf<L>&);                                                                  \
+    template bool Solver::push_rows<L>(WideGroupOf<L>&);                                                                   \
+    template void Solver::solve_group<2, L>(WideGroupOf<L>&);                                                              \
+    template void Solver::solve_group<3, L>(WideGroupOf<L>&);                                                              \
+    template void Solver::solve_group<4, L>(WideGroupOf<L>&);                                                              \
+    template bool Solver::push_group<2, L>(WideGroupOf<L>&);                                                               \
+    template bool Solver::push_group<3, L>(WideGroupOf<L>&);                                                               \
+    template bool Solver::push_group<4, L>(WideGroupOf<L>&);
+PHYNJO_WIDE_LANES(4)
+PHYNJO_WIDE_LANES(8)
+#undef PHYNJO_WIDE_LANES
 
 } // namespace phynjo::runtime::contact_detail

@@ -88,12 +88,15 @@ struct ContactOptions {
     /// within one step even when the row has opened by a fraction of a millimetre
     double margin = -1;
     BroadPhase broad_phase = BroadPhase::uniform_grid;
-    /// Gauss–Seidel among rigid boxes and capsules (no models): four manifolds with the same
-    /// point count, on eight different bodies and close together in the pass, solved at once
-    /// in SIMD lanes — each moved only past contacts of other bodies, so the pass's result is
-    /// that of one at a time (bit for bit wherever the compiler forms the same fused
+    /// Gauss–Seidel among rigid boxes and capsules (no models): `lanes` manifolds with the
+    /// same point count, on 2 × lanes different bodies and close together in the pass, solved
+    /// at once in SIMD lanes — each moved only past contacts of other bodies, so the pass's
+    /// result is that of one at a time (bit for bit wherever the compiler forms the same fused
     /// multiply–adds in both: always without -march=native). false: one at a time.
     bool wide = true;
+    /// The lanes of `wide`: 4 or 8; 0 picks 8 where the build targets AVX-512 (one register
+    /// holds eight doubles), else 4. The same results whichever.
+    int lanes = 0;
 };
 
 /// Fields to add to a rigid world (make_rigid_world's extra_fields) for warm starting: per
