@@ -407,6 +407,7 @@ public:
             saved_.reserve(6 * (n + 1));
             stamp_.reserve(n + 1);
             taken_.reserve(5 * contacts);
+            skip_.reserve(5 * contacts + 1);
             item_bodies_.reserve(5 * contacts);
             sorted_.reserve(5 * contacts);
             if (lanes_ == 8) groups8_.reserve(contacts / 8 + 1);
@@ -641,6 +642,7 @@ private:
     std::vector<std::uint32_t> slots_used_; // store_cache: the slots each body (then each model's pool) has filled
     std::vector<std::size_t> impacts_;      // find_slots: the first rows of the items that may strike
     std::vector<std::uint8_t> taken_;
+    std::vector<std::uint32_t> skip_; // pack_groups: from a taken item towards the next open one
     std::vector<std::int64_t> sorted_;
     int lanes_ = 0; // the groups' lanes (options_.lanes, 0 resolved): 4 or 8
     std::vector<WideGroupOf<4>> groups4_;

@@ -69,6 +69,17 @@ void Solver::pack_groups(std::vector<WideGroupOf<L>>& groups) {
         }
         ++left[x.kind];
     }
+    // The scans visit open items only (a third of those they passed were taken already):
+    // skip_[j] = j while item j is open; a taken item's leads on to the next (path halving).
+    skip_.resize(items + 1);
+    for (std::size_t j = 0; j <= items; ++j) skip_[j] = static_cast<std::uint32_t>(j);
+    auto next_open = [&](std::size_t j) {
+        while (skip_[j] != j) {
+            skip_[j] = skip_[skip_[j]];
+            j = skip_[j];
+        }
+        return j;
+    };
     for (std::size_t at = 0; at < items; ++at) {
         if (taken_[at]) continue;
         const std::int64_t item = schedule_[at];
@@ -85,24 +96,19 @@ void Solver::pack_groups(std::vector<WideGroupOf<L>>& groups) {
         int n = 1;
         stamp_[a] = member;
         if (b != fixed) stamp_[b] = member;
-        // Without branches (which items join is unpredictable: a third of the items scanned
-        // are taken already): stamps only grow, so a body is free — neither a member nor
-        // passed in this window — where its stamp is below `member`. An item that does not
-        // join stays behind the group, and whatever is moved ahead must not touch its bodies.
-        // The static body's stamp is written but never read (an item is free of it).
+        // Without branches (which items join is unpredictable): stamps only grow, so a body is
+        // free — neither a member nor passed in this window — where its stamp is below
+        // `member`. An open item that does not join stays behind the group, and whatever is
+        // moved ahead must not touch its bodies: its bodies become members if it joins (or
+        // were), else passed. The static body's stamp is written but never read (an item is
+        // free of it).
         const std::size_t end = std::min(items, at + window_of(L) + 1);
-        for (std::size_t j = at + 1; j < end && n < L; ++j) {
+        for (std::size_t j = next_open(at + 1); j < end && n < L; j = next_open(j + 1)) {
             const ItemBodies& x = item_bodies_[j];
             const std::uint32_t sa = stamp_[x.a], sb = stamp_[x.b];
-            const bool open = taken_[j] == 0; // not in a group already
-            const bool joins = open & (x.kind == count) & (sa < member) & ((x.b == fixed) | (sb < member));
-            // The new stamps as masks (GCC turns the plain conditionals back into branches):
-            // an open item's bodies become members if it joins (or were), else passed.
-            const std::uint32_t keep = open ? 0u : ~0u; // all bits where the stamp stays
-            const std::uint32_t ta = passed - static_cast<std::uint32_t>(joins | (sa == member));
-            const std::uint32_t tb = passed - static_cast<std::uint32_t>(joins | (sb == member));
-            stamp_[x.a] = (sa & keep) | (ta & ~keep);
-            stamp_[x.b] = (sb & keep) | (tb & ~keep);
+            const bool joins = (x.kind == count) & (sa < member) & ((x.b == fixed) | (sb < member));
+            stamp_[x.a] = passed - static_cast<std::uint32_t>(joins | (sa == member));
+            stamp_[x.b] = passed - static_cast<std::uint32_t>(joins | (sb == member));
             found[n] = j;
             n += joins ? 1 : 0;
         }
@@ -118,6 +124,7 @@ void Solver::pack_groups(std::vector<WideGroupOf<L>>& groups) {
         g.count = static_cast<int>(count);
         for (int l = 0; l < L; ++l) {
             taken_[found[l]] = 1;
+            skip_[found[l]] = static_cast<std::uint32_t>(found[l] + 1);
             sorted_.push_back(schedule_[found[l]]);
             const std::int64_t x = schedule_[found[l]];
             g.block[l] = static_cast<std::uint32_t>(x < 0 ? -1 - x : x);
