@@ -778,8 +778,7 @@ void Solver::solve_contacts() {
         // Friction first, limited by the normal impulse of the previous pass; Gauss–Seidel's
         // normal impulses see the friction just applied, Jacobi's the pass's start.
         const std::vector<Body>& from = jacobi ? snapshot_ : bodies_;
-        if (lanes_ == 8) velocity_pass<8>(from);
-        else velocity_pass<4>(from);
+        with_lanes([&](auto lanes) { velocity_pass<lanes()>(from); });
     }
     store_groups();
     // Back into the rows (store_cache): the normal impulses, and the centre's friction cached

@@ -101,7 +101,7 @@ void Solver::push_positions(double dt) {
         for (std::size_t j = 0; j < k.count; ++j) k.bias[j] = rows_[k.first + j].bias;
     load_groups();
     for (int it = 0; it < options_.position_iterations; ++it)
-        if (!(lanes_ == 8 ? position_pass<8>() : position_pass<4>())) break;
+        if (!with_lanes([&](auto lanes) { return position_pass<lanes()>(); })) break;
     // The rows' separations after the passes, for the velocity passes' speculative bias and the
     // collisions; then the bodies moved and turned, their velocities back.
     // The velocity passes search each block's pressing points afresh: a set the corrections

@@ -50,6 +50,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 namespace phynjo::runtime::contact_detail {
@@ -406,12 +407,11 @@ public:
             impacts_.reserve(5 * contacts);
             saved_.reserve(6 * (n + 1));
             stamp_.reserve(n + 1);
-            taken_.reserve(5 * contacts);
             skip_.reserve(5 * contacts + 1);
             item_bodies_.reserve(5 * contacts);
             sorted_.reserve(5 * contacts);
-            if (lanes_ == 8) groups8_.reserve(contacts / 8 + 1);
-            else groups4_.reserve(contacts / 4 + 1);
+            groups4_.reserve(lanes_ == 4 ? contacts / 4 + 1 : 0);
+            groups8_.reserve(lanes_ == 8 ? contacts / 8 + 1 : 0);
             group_start_.reserve(contacts / 4 + 1);
         }
     }
@@ -493,6 +493,12 @@ private:
     std::vector<WideGroupOf<L>>& groups() {
         if constexpr (L == 8) return groups8_;
         else return groups4_;
+    }
+    /// f(std::integral_constant<int, lanes_>{}): where the lane count picks the code.
+    template <class F>
+    decltype(auto) with_lanes(F&& f) {
+        if (lanes_ == 8) return f(std::integral_constant<int, 8>{});
+        return f(std::integral_constant<int, 4>{});
     }
     /// The friction of a row (limited by its previous normal impulse) with the velocities of
     /// `from`, applied to bodies_.
@@ -641,8 +647,7 @@ private:
     std::vector<std::uint32_t> stamp_;
     std::vector<std::uint32_t> slots_used_; // store_cache: the slots each body (then each model's pool) has filled
     std::vector<std::size_t> impacts_;      // find_slots: the first rows of the items that may strike
-    std::vector<std::uint8_t> taken_;
-    std::vector<std::uint32_t> skip_; // pack_groups: from a taken item towards the next open one
+    std::vector<std::uint32_t> skip_; // pack_groups: j for an open item j, else towards the next open one
     std::vector<std::int64_t> sorted_;
     int lanes_ = 0; // the groups' lanes (options_.lanes, 0 resolved): 4 or 8
     std::vector<WideGroupOf<4>> groups4_;

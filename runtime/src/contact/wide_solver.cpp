@@ -36,8 +36,7 @@ void Solver::pack_groups() {
     groups8_.clear();
     group_start_.clear();
     if (!options_.wide || options_.scheme != ContactScheme::gauss_seidel || !models_.empty() || shape_field_ < 0) return;
-    if (lanes_ == 8) pack_groups(groups8_);
-    else pack_groups(groups4_);
+    with_lanes([&](auto lanes) { pack_groups(groups<lanes()>()); });
 }
 
 template <int L>
@@ -47,7 +46,6 @@ void Solver::pack_groups(std::vector<WideGroupOf<L>>& groups) {
     // stamp_[x]: the window (its number) that last marked body x: 2w as a member of the
     // group being packed, 2w + 1 as a body of an item the members would be moved ahead of.
     stamp_.assign(bodies_.size(), 0);
-    taken_.assign(items, 0);
     sorted_.clear();
     std::uint32_t window = 0;
     // Each item's bodies and its kind: a block's point count — 4 for three points too, which
@@ -81,7 +79,7 @@ void Solver::pack_groups(std::vector<WideGroupOf<L>>& groups) {
         return j;
     };
     for (std::size_t at = 0; at < items; ++at) {
-        if (taken_[at]) continue;
+        if (skip_[at] != at) continue; // in a group already
         const std::int64_t item = schedule_[at];
         const std::uint32_t a = item_bodies_[at].a, b = item_bodies_[at].b;
         const std::size_t count = item_bodies_[at].kind;
@@ -123,7 +121,6 @@ void Solver::pack_groups(std::vector<WideGroupOf<L>>& groups) {
         WideGroupOf<L>& g = groups.back();
         g.count = static_cast<int>(count);
         for (int l = 0; l < L; ++l) {
-            taken_[found[l]] = 1;
             skip_[found[l]] = static_cast<std::uint32_t>(found[l] + 1);
             sorted_.push_back(schedule_[found[l]]);
             const std::int64_t x = schedule_[found[l]];
@@ -654,8 +651,7 @@ struct LaneItems {
 } // namespace
 
 void Solver::load_groups(bool constants) {
-    if (lanes_ == 8) load_groups(groups8_, constants);
-    else load_groups(groups4_, constants);
+    with_lanes([&](auto lanes) { load_groups(groups<lanes()>(), constants); });
 }
 
 template <int L>
